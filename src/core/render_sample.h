@@ -1,0 +1,26 @@
+// The pure per-sample entry point of the core: one camera ray, shaded with Parker's model.
+// Deterministic in its inputs; safe to call from any number of threads on a finalized Scene.
+#pragma once
+#include "core/camera.h"
+#include "core/scene.h"
+
+namespace frameless {
+
+struct SampleResult {
+  Vec3 color{0.0f};   // radiance; finite whenever valid
+  float depth = kInfinity;  // distance along the primary ray from the eye; +inf on a miss
+  Vec3 normal{0.0f};  // shading normal at the primary hit (zero on a miss)
+  bool valid = true;  // false: a NaN/Inf arose and the sample must be dropped (and counted)
+};
+
+// Traces the primary ray through continuous image position (px, py); rng_seed drives any
+// stochastic choice inside shading.
+SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
+                          uint64_t rng_seed);
+
+// Sample `sample_index` of pixel (x, y): jitter offset and rng seed derived from
+// (x, y, sample_index, scene.settings.seed). jitter=false samples the pixel centre.
+SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x, int y,
+                           uint32_t sample_index, bool jitter = true);
+
+}  // namespace frameless

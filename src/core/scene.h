@@ -1,0 +1,54 @@
+// A renderable scene: geometry + acceleration structure, materials, lights, ambient, default view
+// and render settings. Built by loaders on one thread, then read-only for all render threads.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/accel.h"
+#include "core/camera.h"
+#include "core/geometry.h"
+#include "core/light.h"
+#include "core/material.h"
+
+namespace frameless {
+
+struct RenderSettings {
+  int width = 640;
+  int height = 480;
+  int spp = 16;                        // samples per pixel for one-shot renders
+  int max_depth = 25;                  // Whitted recursion limit (OpenRT's headlight model needed 25)
+  float min_contribution = 1.0f / 512; // prune ray-tree branches whose weight falls below this
+  Vec3 background{0.0f};               // radiance of rays that escape
+  uint64_t seed = 1;                   // global seed mixed into every sample
+};
+
+// What the scene needs, found at finalize time so the per-sample path skips the rest.
+struct SceneFeatures {
+  bool has_lights = false;
+  bool has_spheres = false;
+  bool has_triangles = false;
+  bool has_dielectric = false;
+  bool has_reflection = false;  // metal, dielectric or polished
+  bool has_highlights = false;  // some material with k_h != 0
+  bool has_vertex_normals = false;
+};
+
+struct Scene {
+  std::string name;
+  Geometry geometry;
+  std::vector<Material> materials;  // geometry material ids index this
+  std::vector<Light> lights;
+  Ambient ambient;
+  Camera camera;
+  RenderSettings settings;
+  SceneFeatures features;
+  Accel accel;
+};
+
+// Builds the acceleration structure and analyses features. Call once after loading.
+void finalize_scene(Scene& scene, const AccelConfig& config = {});
+
+// Bounding box of all geometry (for framing cameras); returns false when empty.
+bool scene_bounds(const Geometry& geom, Vec3& lo, Vec3& hi);
+
+}  // namespace frameless

@@ -1,0 +1,22 @@
+// Hit-point reconstruction and robust ray-origin offsetting; pure functions, any thread.
+#pragma once
+#include "core/geometry.h"
+#include "core/ray.h"
+
+namespace frameless {
+
+struct SurfacePoint {
+  Vec3 p{0.0f};   // hit position, computed from the primitive (not org + t dir) for precision
+  Vec3 ng{0.0f};  // unit geometric normal, facing against the incoming ray
+  Vec3 ns{0.0f};  // unit shading normal, same hemisphere as ng
+  bool front_face = true;  // the ray hit the outward side
+  uint16_t material = 0;
+};
+
+SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit);
+
+// Offsets p along n by an amount proportional to p's floating-point magnitude so that a ray
+// leaving p in n's hemisphere cannot re-hit the surface, at any scene scale (Waechter & Binder 2019).
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& n);
+
+}  // namespace frameless

@@ -1,0 +1,26 @@
+// Basic math types for the core (GLM), shared by every thread.
+#pragma once
+#include <cstdint>
+#include <limits>
+
+#include <glm/glm.hpp>
+
+namespace frameless {
+
+using Vec2 = glm::vec2;
+using Vec3 = glm::vec3;
+using Vec4 = glm::vec4;
+using UVec3 = glm::uvec3;
+
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr uint32_t kInvalidId = 0xffffffffu;
+
+inline bool is_finite(const Vec3& v) {
+  // Bit-free check: finite values compare equal to themselves and stay below the max.
+  constexpr float kMax = std::numeric_limits<float>::max();
+  return v.x == v.x && v.y == v.y && v.z == v.z && v.x <= kMax && v.x >= -kMax &&
+         v.y <= kMax && v.y >= -kMax && v.z <= kMax && v.z >= -kMax;
+}
+
+}  // namespace frameless
