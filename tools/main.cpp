@@ -1,0 +1,73 @@
+// Entry point of the `frameless` command line: builds the subcommand tree from the registry.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <vector>
+
+#include "tools/command_registry.h"
+
+namespace frameless::cli {
+namespace {
+
+struct Entry {
+  std::string parent, name, description;
+  CommandSetup setup;
+};
+
+std::vector<Entry>& registry() {
+  static std::vector<Entry> entries;
+  return entries;
+}
+
+}  // namespace
+
+bool register_command(const std::string& parent, const std::string& name,
+                      const std::string& description, CommandSetup setup) {
+  registry().push_back({parent, name, description, std::move(setup)});
+  return true;
+}
+
+bool show_progress() {
+  const char* ci = std::getenv("CI");
+  return isatty(STDERR_FILENO) && !(ci && *ci);
+}
+
+}  // namespace frameless::cli
+
+int main(int argc, char** argv) {
+  using namespace frameless::cli;
+  CLI::App app{"frameless: an interactive ray tracer with a frameless (asynchronous) display"};
+  app.set_version_flag("--version", FRAMELESS_VERSION);
+  app.require_subcommand(1);
+  std::map<std::string, CLI::App*> parents;
+  std::map<CLI::App*, std::function<int()>> runners;
+  // Top-level commands first, so bench sub-benchmarks find their parent.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (Entry& e : registry()) {
+      if ((pass == 0) != e.parent.empty()) continue;
+      CLI::App* parent = &app;
+      if (!e.parent.empty()) {
+        auto it = parents.find(e.parent);
+        if (it == parents.end()) {
+          it = parents.emplace(e.parent, app.add_subcommand(e.parent, e.parent + " commands")).first;
+          it->second->require_subcommand(1);
+        }
+        parent = it->second;
+      }
+      CLI::App* sub = parent->add_subcommand(e.name, e.description);
+      if (e.parent.empty()) parents[e.name] = sub;
+      if (e.setup) runners[sub] = e.setup(*sub);
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (auto& [sub, run] : runners)
+    if (sub->parsed() && run && sub->get_subcommands().empty()) return run();
+  std::fprintf(stderr, "frameless: no command chosen (see --help)\n");
+  return 2;
+}
