@@ -1,0 +1,36 @@
+// Options shared by several commands (scene, size, camera flags, threads); main thread only.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/camera.h"
+#include "core/scene.h"
+
+namespace frameless::cli {
+
+// --eye/--look/--up x,y,z and --fov DEG; unset flags keep the scene's camera.
+struct CameraFlags {
+  std::vector<float> eye, look, up;
+  std::optional<float> fov;
+  void add_to(CLI::App& app);
+  // Applies the given flags to `camera`; false with a one-line message when invalid.
+  bool apply(Camera& camera, std::string& error) const;
+};
+
+// Parses "WxH" (1..16384 each); false with a one-line message otherwise.
+bool parse_size(const std::string& text, int& width, int& height, std::string& error);
+
+// Number of hardware threads (at least 1).
+int hardware_threads();
+
+// Loads a scene spec (see load_scene) and prints "frameless: <error>" on failure.
+std::unique_ptr<Scene> load_scene_or_report(const std::string& spec);
+
+// Prints "frameless: <message>" to stderr and returns the exit code for bad input (2).
+int report_error(const std::string& message);
+
+}  // namespace frameless::cli
