@@ -1,0 +1,103 @@
+// `frameless render`: one-shot render of a scene to EXR (half RGB, Z, N, sample count) and PNG.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "core/scene_io.h"
+#include "display/atomic_file.h"
+#include "display/exr_io.h"
+#include "display/png_io.h"
+#include "frameless/tile_render.h"
+#include "tools/command_registry.h"
+#include "tools/common_options.h"
+
+namespace frameless::cli {
+namespace {
+
+struct RenderArgs {
+  std::string scene = "default";
+  std::string size;
+  int spp = 0;
+  std::string out = "captures/render.exr";
+  std::string png;
+  bool no_jitter = false;
+  int threads = 0;
+  CameraFlags camera;
+};
+
+bool output_dir_ok(const std::string& path, std::string& error) {
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  if (!dir.empty() && !std::filesystem::exists(dir)) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+  }
+  return directory_writable(dir, error);
+}
+
+int run_render(const RenderArgs& a) {
+  std::string error;
+  // Check every output before spending minutes rendering.
+  if (!output_dir_ok(a.out, error)) return report_error(error);
+  if (!a.png.empty() && !output_dir_ok(a.png, error)) return report_error(error);
+  if (a.spp < 0 || a.spp > 1 << 20) return report_error("--spp: must be between 1 and 1048576");
+  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  if (!scene) return 2;
+  int width = scene->settings.width, height = scene->settings.height;
+  if (!a.size.empty() && !parse_size(a.size, width, height, error)) return report_error(error);
+  Camera camera = scene->camera;
+  if (!a.camera.apply(camera, error)) return report_error(error);
+
+  TileRenderOptions o;
+  o.spp = a.spp > 0 ? a.spp : scene->settings.spp;
+  o.threads = a.threads > 0 ? a.threads : hardware_threads();
+  o.jitter = !a.no_jitter;
+  if (show_progress())
+    o.progress = [](double f) {
+      std::fprintf(stderr, "\rrendering %5.1f%%", 100.0 * f);
+      if (f >= 1.0) std::fprintf(stderr, "\n");
+    };
+  const RenderedImage img = render_tiles(*scene, make_camera_basis(camera, width, height), o);
+
+  ExrAttributes attrs;
+  attrs.strings["frameless:scene"] = a.scene;
+  attrs.ints["frameless:spp"] = o.spp;
+  attrs.ints["frameless:dropped_samples"] = int(img.dropped);
+  attrs.doubles["frameless:render_seconds"] = img.seconds;
+  const std::vector<ExrChannel> channels = {
+      {"R", true, img.rgb.data(), 3},         {"G", true, img.rgb.data() + 1, 3},
+      {"B", true, img.rgb.data() + 2, 3},     {"Z", false, img.depth.data(), 1},
+      {"N.X", false, img.normal.data(), 3},   {"N.Y", false, img.normal.data() + 1, 3},
+      {"N.Z", false, img.normal.data() + 2, 3}, {"samples", false, img.samples.data(), 1}};
+  if (auto r = write_exr(a.out, width, height, channels, attrs); !r) return report_error(r.error().message);
+  if (!a.png.empty())
+    if (auto r = write_png(a.png, width, height, img.rgb.data()); !r)
+      return report_error(r.error().message);
+  const double rays = double(width) * height * o.spp;
+  std::printf("rendered %s: %dx%d, %d spp, %d threads, %.2f s (%.2f M samples/s), %llu dropped\n",
+              a.scene.c_str(), width, height, o.spp, o.threads, img.seconds,
+              rays / img.seconds * 1e-6, (unsigned long long)img.dropped);
+  std::printf("wrote %s%s%s\n", a.out.c_str(), a.png.empty() ? "" : " and ", a.png.c_str());
+  return 0;
+}
+
+const bool registered = register_command(
+    "", "render", "Render a scene once to an EXR (half RGB + Z + N + samples), optionally a PNG",
+    [](CLI::App& app) {
+      auto a = std::make_shared<RenderArgs>();
+      app.add_option("scene", a->scene,
+                     "built-in name, .json scene or .obj/.ply mesh (default: default)");
+      app.add_option("--size", a->size, "image size WxH (default: the scene's)");
+      app.add_option("--spp", a->spp, "samples per pixel (default: the scene's)");
+      app.add_option("--out", a->out, "output EXR file")->capture_default_str();
+      app.add_option("--png", a->png, "also write an sRGB PNG here");
+      app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
+      app.add_option("--threads", a->threads, "render threads (default: all cores)");
+      a->camera.add_to(app);
+      app.footer(std::string("Scenes: ") + builtin_scene_help());
+      return [a] { return run_render(*a); };
+    });
+
+}  // namespace
+}  // namespace frameless::cli
