@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages frameless needs, only when some are missing (idempotent, quiet
+# when everything is present). Usage: tools/install-deps.sh [--test] [--bench]
+set -euo pipefail
+
+build_pkgs=(build-essential cmake pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
+  libtinyobjloader-dev libcli11-dev libpng-dev libglfw3-dev libosmesa6-dev libgl-dev
+  libgtest-dev glmark2-data)
+test_pkgs=(xvfb xauth clang libclang-rt-14-dev)
+bench_pkgs=(libembree-dev gnuplot)
+
+want=("${build_pkgs[@]}")
+for arg in "$@"; do
+  case "$arg" in
+    --test) want+=("${test_pkgs[@]}") ;;
+    --bench) want+=("${bench_pkgs[@]}") ;;
+    *) echo "install-deps.sh: unknown option '$arg' (use --test, --bench)" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "install-deps.sh: missing packages (${missing[*]}); run as root or install them" >&2
+  exit 1
+fi
+echo "installing: ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq >/dev/null
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
