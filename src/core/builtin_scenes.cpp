@@ -1,0 +1,247 @@
+// Built-in scenes: "default", "balls", "spheres:N[:SEED]", "bunny".
+#include "core/builtin_scenes.h"
+
+#include <charconv>
+#include <cmath>
+#include <sys/stat.h>
+
+#include "core/rng.h"
+#include "core/scene_build.h"
+#include "core/scene_io.h"
+
+namespace frameless {
+namespace {
+
+Material diffuse(const char* name, Vec3 kd) {
+  Material m;
+  m.name = name;
+  m.cls = MaterialClass::kDiffuse;
+  m.kd = kd;
+  return m;
+}
+
+Material metal(const char* name, Vec3 ks, float phong) {
+  Material m;
+  m.name = name;
+  m.cls = MaterialClass::kMetal;
+  m.kd = Vec3(0.0f);
+  m.ks = ks;
+  m.kh = ks;
+  m.phong_exponent = phong;
+  return m;
+}
+
+Material dielectric(const char* name, float ior, Vec3 extinction) {
+  Material m;
+  m.name = name;
+  m.cls = MaterialClass::kDielectric;
+  m.kd = Vec3(0.0f);
+  m.ior = ior;
+  m.extinction = extinction;
+  m.kh = Vec3(1.0f);
+  m.phong_exponent = 300.0f;
+  return m;
+}
+
+Material polished(const char* name, Vec3 kd, float r0) {
+  Material m;
+  m.name = name;
+  m.cls = MaterialClass::kPolished;
+  m.kd = kd;
+  m.r0 = Vec3(r0);
+  m.kh = Vec3(0.8f);
+  m.phong_exponent = 120.0f;
+  return m;
+}
+
+// The project's face: one large sphere of each material class in an open room (floor, back
+// and left walls), a few small spheres and a box, one light and the hemisphere ambient.
+std::unique_ptr<Scene> make_default() {
+  auto s = std::make_unique<Scene>();
+  s->name = "default";
+  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.70f, 0.68f, 0.64f)));
+  const uint16_t wall = add_material(*s, diffuse("wall", Vec3(0.62f, 0.64f, 0.70f)));
+  const uint16_t clay = add_material(*s, diffuse("clay", Vec3(0.80f, 0.28f, 0.18f)));
+  const uint16_t gold = add_material(*s, metal("gold", Vec3(0.95f, 0.74f, 0.36f), 200.0f));
+  const uint16_t glass = add_material(*s, dielectric("glass", 1.5f, Vec3(0.06f, 0.02f, 0.04f)));
+  const uint16_t lacquer = add_material(*s, polished("lacquer", Vec3(0.10f, 0.22f, 0.62f), 0.05f));
+  const uint16_t jade = add_material(*s, polished("jade", Vec3(0.18f, 0.55f, 0.30f), 0.04f));
+  const uint16_t chrome = add_material(*s, metal("chrome", Vec3(0.85f), 400.0f));
+  const uint16_t ivory = add_material(*s, diffuse("ivory", Vec3(0.85f, 0.82f, 0.70f)));
+
+  add_quad(*s, Vec3(0.0f, 0.0f, 0.0f), Vec3(0, 1, 0), 16.0f, floor);
+  add_quad(*s, Vec3(0.0f, 4.0f, -4.0f), Vec3(0, 0, 1), 16.0f, wall);
+  add_quad(*s, Vec3(-6.0f, 4.0f, 0.0f), Vec3(1, 0, 0), 16.0f, wall);
+
+  const float r = 0.8f;
+  add_sphere(*s, Vec3(-2.7f, r, 0.0f), r, clay);
+  add_sphere(*s, Vec3(-0.9f, r, -0.4f), r, gold);
+  add_sphere(*s, Vec3(0.9f, r, 0.0f), r, glass);
+  add_sphere(*s, Vec3(2.7f, r, -0.4f), r, lacquer);
+  add_sphere(*s, Vec3(-1.6f, 0.3f, 1.5f), 0.3f, chrome);
+  add_sphere(*s, Vec3(0.0f, 0.25f, 1.8f), 0.25f, jade);
+  add_sphere(*s, Vec3(1.7f, 0.3f, 1.5f), 0.3f, ivory);
+  add_box(*s, Vec3(-4.6f, 0.0f, -2.6f), Vec3(-3.4f, 1.6f, -1.4f), ivory);
+
+  s->lights.push_back(Light{Vec3(3.0f, 6.5f, 5.0f), Vec3(0.9f, 0.88f, 0.82f), 0.3f});
+  s->ambient = default_hemisphere_ambient();
+  s->camera.eye = Vec3(0.4f, 2.4f, 7.8f);
+  s->camera.look = Vec3(0.0f, 0.7f, 0.0f);
+  s->camera.up = Vec3(0.0f, 1.0f, 0.0f);
+  s->camera.fov_deg = 45.0f;
+  s->settings.background = Vec3(0.0f);
+  return s;
+}
+
+// Parker's bouncing balls: a 6 x 6 grid of coloured balls over a floor, each bouncing with its
+// own height and period.
+constexpr int kBallGrid = 6;
+constexpr float kBallRadius = 0.4f;
+constexpr float kBallSpacing = 1.2f;
+
+struct Bounce {
+  float x, z, height, period, phase;
+};
+
+Bounce ball_motion(int i) {
+  Rng rng(0xba11u + uint64_t(i));
+  const int gx = i % kBallGrid, gz = i / kBallGrid;
+  const float off = 0.5f * float(kBallGrid - 1) * kBallSpacing;
+  return Bounce{float(gx) * kBallSpacing - off, float(gz) * kBallSpacing - off,
+                0.4f + 1.6f * rng.next_float(), 0.6f + 0.8f * rng.next_float(), rng.next_float()};
+}
+
+std::unique_ptr<Scene> make_balls() {
+  auto s = std::make_unique<Scene>();
+  s->name = "balls";
+  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.65f)));
+  add_quad(*s, Vec3(0.0f), Vec3(0, 1, 0), 20.0f, floor);
+  const Vec3 colours[6] = {{0.85f, 0.20f, 0.15f}, {0.95f, 0.70f, 0.15f}, {0.20f, 0.65f, 0.25f},
+                           {0.15f, 0.35f, 0.85f}, {0.60f, 0.25f, 0.75f}, {0.90f, 0.90f, 0.88f}};
+  uint16_t mats[6];
+  for (int k = 0; k < 6; ++k)
+    mats[k] = k % 3 == 2 ? add_material(*s, metal("ball", colours[k], 150.0f))
+                         : add_material(*s, polished("ball", colours[k], 0.05f));
+  const std::vector<Sphere> balls = bouncing_balls_at(0.0);
+  for (size_t i = 0; i < balls.size(); ++i)
+    add_sphere(*s, balls[i].center, balls[i].radius, mats[(i * 7) % 6]);
+  s->lights.push_back(Light{Vec3(-4.0f, 9.0f, 6.0f), Vec3(0.9f), 0.0f});
+  s->ambient = default_hemisphere_ambient();
+  s->camera.eye = Vec3(0.0f, 6.0f, 10.0f);
+  s->camera.look = Vec3(0.0f, 0.6f, 0.0f);
+  s->camera.fov_deg = 45.0f;
+  return s;
+}
+
+Result<uint64_t> parse_count(std::string_view text, const std::string& spec, const char* what) {
+  uint64_t v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size())
+    return Error{spec + ": " + what + " '" + std::string(text) + "' is not a non-negative integer"};
+  return v;
+}
+
+// N random spheres in a cube whose side grows as cbrt(N), so density (and the picture) stays
+// alike for any N. Flat arrays reserved up front: 18 bytes per sphere before the BVH.
+Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
+  std::string_view rest = std::string_view(spec).substr(8);
+  const size_t colon = rest.find(':');
+  auto n = parse_count(rest.substr(0, colon), spec, "N");
+  if (!n) return n.error();
+  uint64_t seed = 1;
+  if (colon != std::string_view::npos) {
+    auto sd = parse_count(rest.substr(colon + 1), spec, "SEED");
+    if (!sd) return sd.error();
+    seed = *sd;
+  }
+  if (*n < 1 || *n > kMaxRandomSpheres)
+    return Error{spec + ": N must be in 1.." + std::to_string(kMaxRandomSpheres)};
+  auto s = std::make_unique<Scene>();
+  s->name = spec;
+  uint16_t mats[8];
+  mats[0] = add_material(*s, diffuse("red", Vec3(0.8f, 0.25f, 0.2f)));
+  mats[1] = add_material(*s, diffuse("green", Vec3(0.25f, 0.7f, 0.3f)));
+  mats[2] = add_material(*s, diffuse("blue", Vec3(0.2f, 0.35f, 0.8f)));
+  mats[3] = add_material(*s, diffuse("white", Vec3(0.8f)));
+  mats[4] = add_material(*s, polished("orange", Vec3(0.9f, 0.5f, 0.1f), 0.05f));
+  mats[5] = add_material(*s, polished("violet", Vec3(0.5f, 0.25f, 0.7f), 0.05f));
+  mats[6] = add_material(*s, metal("steel", Vec3(0.8f), 200.0f));
+  mats[7] = add_material(*s, dielectric("glass", 1.5f, Vec3(0.0f)));
+  const uint64_t count = *n;
+  const float side = std::cbrt(float(count));
+  Geometry& g = s->geometry;
+  g.spheres.resize(count);
+  g.sphere_material.resize(count);
+  Rng rng(seed);
+  for (uint64_t i = 0; i < count; ++i) {
+    const float x = rng.next_float(), y = rng.next_float(), z = rng.next_float();
+    const float r = 0.1f + 0.2f * rng.next_float();
+    g.spheres[i] = Sphere{side * (Vec3(x, y, z) - 0.5f), r};
+    g.sphere_material[i] = mats[rng.next_u32() & 7u];
+  }
+  Vec3 lo, hi;
+  scene_bounds(g, lo, hi);
+  s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
+  const float extent = glm::length(hi - lo);
+  s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
+  s->ambient = default_hemisphere_ambient();
+  s->settings.seed = seed;
+  return s;
+}
+
+Result<std::unique_ptr<Scene>> make_bunny() {
+  struct stat st;
+  if (stat(kBunnyPath, &st) != 0)
+    return Error{std::string("bunny: ") + kBunnyPath +
+                 " not found: install Debian's glmark2-data (apt-get install glmark2-data)"};
+  auto mesh = load_mesh(kBunnyPath);
+  if (!mesh) return mesh.error();
+  auto s = make_mesh_scene(std::move(*mesh), "bunny");
+  s->materials[0] = polished("bunny", Vec3(0.78f, 0.74f, 0.66f), 0.04f);
+  Vec3 lo, hi;
+  scene_bounds(s->geometry, lo, hi);
+  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.6f, 0.62f, 0.66f)));
+  add_quad(*s, Vec3(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z)), Vec3(0, 1, 0),
+           8.0f * glm::length(hi - lo), floor);
+  return s;
+}
+
+}  // namespace
+
+std::vector<Sphere> bouncing_balls_at(double t) {
+  std::vector<Sphere> balls;
+  balls.reserve(kBallGrid * kBallGrid);
+  for (int i = 0; i < kBallGrid * kBallGrid; ++i) {
+    const Bounce b = ball_motion(i);
+    // |sin| gives the parabola-like bounce; phase keeps the t = 0 picture varied.
+    const double arg = kPi * (t / double(b.period) + double(b.phase));
+    const float y = kBallRadius + b.height * float(std::fabs(std::sin(arg)));
+    balls.push_back(Sphere{Vec3(b.x, y, b.z), kBallRadius});
+  }
+  return balls;
+}
+
+Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
+  Result<std::unique_ptr<Scene>> scene = Error{""};
+  if (name == "default") scene = make_default();
+  else if (name == "balls") scene = make_balls();
+  else if (name == "bunny") scene = make_bunny();
+  else if (name.rfind("spheres:", 0) == 0) scene = make_spheres(name);
+  else
+    return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
+                        "scene (default, balls, spheres:N[:SEED], bunny)"};
+  if (!scene) return scene;
+  finalize_scene(**scene);
+  return scene;
+}
+
+const char* builtin_scene_help() {
+  return "Built-in scenes:\n"
+         "  default            all four material classes in an open room, hemisphere ambient\n"
+         "  balls              Parker's bouncing balls (static configuration at t = 0)\n"
+         "  spheres:N[:SEED]   N random spheres, 1 <= N <= 35000000, seeded (default seed 1)\n"
+         "  bunny              the Stanford bunny from Debian's glmark2-data\n"
+         "Or a scene file (.json) or a mesh file (.obj, .ply).";
+}
+
+}  // namespace frameless

@@ -1,0 +1,20 @@
+// Built-in scenes that need no files, and the animated state of Parker's bouncing balls;
+// loading thread (pure functions).
+#pragma once
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace frameless {
+
+// Where the bouncing balls are at time t seconds (t = 0 is the configuration that
+// make_builtin_scene("balls") shows). Same count and order as the scene's spheres.
+std::vector<Sphere> bouncing_balls_at(double t);
+
+// Largest N that "spheres:N" accepts.
+inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
+
+// Path of the Stanford bunny shipped by Debian's glmark2-data.
+inline constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
+
+}  // namespace frameless

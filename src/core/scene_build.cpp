@@ -1,0 +1,162 @@
+#include "core/scene_build.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+namespace frameless {
+
+Result<std::string> read_file_bytes(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return Error{path + ": cannot open: " + std::strerror(errno)};
+  std::string bytes;
+  char buf[1 << 16];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) return Error{path + ": read error"};
+  return bytes;
+}
+
+std::string file_extension(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+uint16_t add_material(Scene& scene, const Material& m) {
+  scene.materials.push_back(m);
+  return uint16_t(scene.materials.size() - 1);
+}
+
+// Gives triangles [first, end) their own vertices carrying the face normal, so that flat
+// geometry keeps flat shading in a scene where other meshes bring vertex normals.
+static void append_flat_normals(Geometry& g, size_t first) {
+  std::vector<Vec3> pos = std::move(g.positions);
+  g.positions.assign(pos.begin(), pos.begin() + std::ptrdiff_t(g.normals.size()));
+  for (size_t i = first; i < g.triangles.size(); ++i) {
+    const UVec3 t = g.triangles[i];
+    Vec3 n = glm::cross(pos[t.y] - pos[t.x], pos[t.z] - pos[t.x]);
+    const float len = glm::length(n);
+    n = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f, 1.0f, 0.0f);
+    const uint32_t b = uint32_t(g.positions.size());
+    for (int k = 0; k < 3; ++k) {
+      g.positions.push_back(pos[t[k]]);
+      g.normals.push_back(n);
+    }
+    g.triangles[i] = UVec3(b, b + 1, b + 2);
+  }
+}
+
+void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material) {
+  Geometry& g = scene.geometry;
+  const glm::mat3 nm = glm::inverseTranspose(glm::mat3(m));
+  const bool mirrored = glm::determinant(glm::mat3(m)) < 0.0f;
+  const bool has_normals = !mesh.normals.empty() && mesh.normals.size() == mesh.positions.size();
+  // Vertex normals are all-or-nothing per scene (one per position, or none).
+  if (has_normals && g.normals.empty() && !g.triangles.empty()) append_flat_normals(g, 0);
+  const bool scene_normals = !g.normals.empty() || has_normals;
+  const uint32_t base = uint32_t(g.positions.size());
+  const size_t first_tri = g.triangles.size();
+  g.positions.reserve(g.positions.size() + mesh.positions.size());
+  for (const Vec3& p : mesh.positions) g.positions.push_back(Vec3(m * Vec4(p, 1.0f)));
+  g.triangles.reserve(g.triangles.size() + mesh.triangles.size());
+  for (const UVec3& t : mesh.triangles) {
+    const UVec3 s = t + UVec3(base);
+    g.triangles.push_back(mirrored ? UVec3(s.x, s.z, s.y) : s);
+  }
+  g.triangle_material.resize(g.triangles.size(), material);
+  if (has_normals) {
+    g.normals.reserve(g.positions.size());
+    for (const Vec3& n : mesh.normals) {
+      const Vec3 t = nm * n;
+      const float len = glm::length(t);
+      g.normals.push_back(len > 0.0f && std::isfinite(len) ? t / len : Vec3(0.0f, 1.0f, 0.0f));
+    }
+  } else if (scene_normals) {
+    append_flat_normals(g, first_tri);
+  }
+}
+
+void add_quad(Scene& scene, const Vec3& center, const Vec3& normal, float size, uint16_t material) {
+  const Vec3 n = glm::normalize(normal);
+  const Vec3 helper = std::fabs(n.y) < 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  const Vec3 a = glm::normalize(glm::cross(helper, n)) * (0.5f * size);
+  const Vec3 b = glm::cross(n, glm::normalize(a)) * (0.5f * size);
+  MeshData q;
+  // a x b is along n, so counter-clockwise (a, b) order faces along n.
+  q.positions = {center - a - b, center + a - b, center + a + b, center - a + b};
+  q.triangles = {UVec3(0, 1, 2), UVec3(0, 2, 3)};
+  add_mesh(scene, q, glm::mat4(1.0f), material);
+}
+
+void add_box(Scene& scene, const Vec3& lo, const Vec3& hi, uint16_t material) {
+  MeshData b;
+  for (int i = 0; i < 8; ++i)
+    b.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
+  // Each face counter-clockwise seen from outside.
+  b.triangles = {{0, 4, 6}, {0, 6, 2},   // -x
+                 {1, 3, 7}, {1, 7, 5},   // +x
+                 {0, 1, 5}, {0, 5, 4},   // -y
+                 {2, 6, 7}, {2, 7, 3},   // +y
+                 {0, 2, 3}, {0, 3, 1},   // -z
+                 {4, 5, 7}, {4, 7, 6}};  // +z
+  add_mesh(scene, b, glm::mat4(1.0f), material);
+}
+
+void add_sphere(Scene& scene, const Vec3& center, float radius, uint16_t material) {
+  scene.geometry.spheres.push_back(Sphere{center, radius});
+  scene.geometry.sphere_material.push_back(material);
+}
+
+Camera frame_camera(const Vec3& lo, const Vec3& hi, int width, int height) {
+  Camera cam;
+  cam.fov_deg = 40.0f;
+  const Vec3 c = 0.5f * (lo + hi);
+  const float r = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  // Fit the bounding sphere in the narrower of the two fields of view.
+  float half = glm::radians(cam.fov_deg) * 0.5f;
+  if (width < height) half = std::atan(std::tan(half) * float(width) / float(height));
+  const float dist = 1.05f * r / std::sin(half);
+  cam.eye = c + dist * glm::normalize(Vec3(0.35f, 0.3f, 1.0f));
+  cam.look = c;
+  cam.up = Vec3(0.0f, 1.0f, 0.0f);
+  return cam;
+}
+
+Ambient default_hemisphere_ambient() {
+  Ambient a;
+  a.kind = AmbientKind::kHemisphere;
+  a.a = Vec3(0.22f, 0.26f, 0.32f);
+  a.b = Vec3(0.06f, 0.05f, 0.04f);
+  a.axis = Vec3(0.0f, 1.0f, 0.0f);
+  return a;
+}
+
+std::unique_ptr<Scene> make_mesh_scene(MeshData mesh, const std::string& name) {
+  auto scene = std::make_unique<Scene>();
+  scene->name = name;
+  Material m;
+  m.name = "default";
+  m.cls = MaterialClass::kDiffuse;
+  m.kd = Vec3(0.75f, 0.72f, 0.68f);
+  add_mesh(*scene, mesh, glm::mat4(1.0f), add_material(*scene, m));
+  Vec3 lo, hi;
+  scene_bounds(scene->geometry, lo, hi);
+  const Vec3 c = 0.5f * (lo + hi);
+  const float r = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  scene->lights.push_back(Light{c + r * Vec3(2.0f, 4.0f, 3.0f), Vec3(0.85f), 0.0f});
+  scene->ambient = default_hemisphere_ambient();
+  scene->camera = frame_camera(lo, hi, scene->settings.width, scene->settings.height);
+  return scene;
+}
+
+}  // namespace frameless

@@ -1,0 +1,44 @@
+// Helpers the scene loaders share to put geometry into a Scene (meshes, quads, boxes, framing
+// camera, file reading); loading thread only.
+#pragma once
+#include <string>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/error.h"
+#include "core/scene.h"
+#include "core/scene_io.h"
+
+namespace frameless {
+
+// Reads a whole file as bytes; the error names the file and the reason.
+Result<std::string> read_file_bytes(const std::string& path);
+
+// Lower-case extension including the dot (".obj"), or "" when there is none.
+std::string file_extension(const std::string& path);
+
+// Adds a material and returns its id.
+uint16_t add_material(Scene& scene, const Material& m);
+
+// Appends a mesh transformed by m: positions by m, normals by the inverse transpose, and the
+// winding flipped when m mirrors, so that geometric normals keep pointing outward.
+void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material);
+
+// Finite quad: centre, unit normal, side length (square), oriented to face along normal.
+void add_quad(Scene& scene, const Vec3& center, const Vec3& normal, float size, uint16_t material);
+
+// Axis-aligned box as 12 triangles with outward normals.
+void add_box(Scene& scene, const Vec3& lo, const Vec3& hi, uint16_t material);
+
+void add_sphere(Scene& scene, const Vec3& center, float radius, uint16_t material);
+
+// A camera that frames the box [lo, hi] from the front-right-above, for a width x height image.
+Camera frame_camera(const Vec3& lo, const Vec3& hi, int width, int height);
+
+// Mesh shown alone: default material, one light over it, hemisphere ambient, framing camera.
+std::unique_ptr<Scene> make_mesh_scene(MeshData mesh, const std::string& name);
+
+// Hemisphere ambient used by the mesh viewer and the built-ins: cool sky above, warm ground below.
+Ambient default_hemisphere_ambient();
+
+}  // namespace frameless
