@@ -1,0 +1,131 @@
+// The frameless engine: owns the render threads, their pixels and the camera channel. Control
+// methods run on one control thread; collect_updates() on the display thread; render threads
+// are internal. The destructor stops and joins every thread (RAII).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/scene.h"
+#include "frameless/engine_config.h"
+#include "frameless/partition.h"
+#include "frameless/pixel_state.h"
+#include "frameless/update_log.h"
+
+namespace frameless {
+
+// Counters of one render thread (always on; relaxed atomics written by the owner only).
+struct ThreadStats {
+  uint64_t pixels = 0;        // pixels the thread owns (frameless mode; 0 in conventional)
+  uint64_t samples = 0;       // samples traced since start()
+  uint64_t updates = 0;       // pixel updates published since start()
+  uint64_t dropped = 0;       // samples dropped for NaN/Inf since start()
+  double samples_per_s = 0;   // samples / engine seconds since start()
+};
+
+struct EngineStats {
+  std::vector<ThreadStats> threads;  // one per render thread
+  uint64_t samples = 0;              // sum over threads
+  uint64_t updates = 0;              // sum over threads
+  uint64_t dropped = 0;              // sum over threads
+  double samples_per_s = 0;          // samples / seconds since start()
+  double seconds = 0;                // engine seconds since start() (virtual in deterministic mode)
+  uint64_t frames_completed = 0;     // conventional mode: frames finished since start()
+  uint32_t camera_epoch = 0;         // newest published epoch
+};
+
+// One updated pixel as handed to the display thread.
+struct PixelUpdate {
+  uint32_t pixel = 0;  // y * width + x
+  PixelSnapshot state; // consistent copy of its published state
+};
+
+// Display-thread cursor: what it has already seen. Default-constructed = nothing seen.
+struct UpdateCursor {
+  uint64_t generation = ~uint64_t(0);  // engine layout generation it refers to
+  std::vector<uint64_t> thread_updates;  // per render thread: updates already collected
+  std::vector<uint32_t> last_seq;        // per pixel: sequence number last collected
+  uint64_t frame = 0;                    // conventional: completed frames already collected
+};
+
+// What one collect_updates() call found.
+struct CollectResult {
+  RenderMode mode = RenderMode::frameless;  // mode the updates come from
+  bool reset = false;        // layout changed (resize, restart): the display must clear its image
+  int width = 0;             // current image size
+  int height = 0;
+  uint32_t newest_epoch = 0; // newest published camera epoch
+  uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
+  uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()
+  double time = 0;           // engine seconds at collection (virtual in deterministic mode)
+  bool new_frame = false;    // conventional: a newly completed frame was collected
+  uint64_t contended = 0;    // pixels skipped because the owner kept writing them (picked up later)
+};
+
+class Engine {
+ public:
+  // `scene` must be finalized and outlive the engine. The initial camera is `camera`.
+  Engine(const Scene& scene, const EngineConfig& config, const Camera& camera);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // Starts the render threads (wall clock) or the idle worker pool (deterministic). Idempotent.
+  void start();
+  // Stops and joins all render threads. Idempotent; also called by the destructor.
+  void stop();
+  bool running() const;
+
+  // Publishes a new camera without blocking; returns its epoch. Any thread.
+  uint32_t publish_camera(const Camera& camera);
+  uint32_t camera_epoch() const;  // newest epoch; any thread
+  Camera camera() const;          // newest camera; any thread
+
+  // Runtime changes (control thread). Each stops the threads, rebuilds what it must (resize
+  // re-partitions and clears pixel state) and restarts them if they were running.
+  void resize(int width, int height);
+  void set_mode(RenderMode mode);
+  void set_threads(int threads);
+  void set_update_percent(double percent);
+  void reconfigure(const EngineConfig& config);  // any combination of the above
+  EngineConfig config() const;                   // current settings (threads resolved)
+  int width() const;
+  int height() const;
+  int thread_count() const;  // resolved number of render threads
+  const Partition& partition() const;  // control thread; valid until the next reconfiguration
+
+  // Deterministic mode (control thread): every render thread renders its share of
+  // samples_per_tick, then the virtual clock advances by `tick_seconds`. Returns when all are done.
+  void advance(double tick_seconds);
+  uint64_t ticks() const;  // advance() calls since start()
+  // Engine seconds since start(): wall clock, or the virtual clock in deterministic mode.
+  double now() const;
+
+  // Display thread: appends every pixel updated since `cursor` (each at most once, as a
+  // consistent snapshot) to `out` (cleared first) and advances the cursor. In conventional mode
+  // it yields the whole newest completed frame, once.
+  CollectResult collect_updates(UpdateCursor& cursor, std::vector<PixelUpdate>& out);
+  // Display thread: the display interval index stamped into update-log records.
+  void note_display_tick(uint32_t index);
+
+  // Always-on instrumentation; any thread.
+  EngineStats stats() const;
+  // The first error a render thread hit (it then stopped the engine); empty when none.
+  std::optional<std::string> error() const;
+
+  // Update log of render thread `thread` (config.update_log_capacity > 0). Read only while the
+  // threads are stopped or between advance() calls in deterministic mode.
+  const UpdateLog& update_log(int thread) const;
+  // Consistent copy of pixel (x, y)'s state (tests, stats); any thread.
+  bool read_pixel(int x, int y, PixelSnapshot& out) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace frameless

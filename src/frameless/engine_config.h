@@ -1,0 +1,54 @@
+// Settings of the frameless engine (plain data, filled field by field by the command line); any thread.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/camera.h"
+#include "core/render_sample.h"
+#include "frameless/partition.h"
+
+namespace frameless {
+
+// frameless: asynchronous per-pixel updates (section 2.2); conventional: synchronous frames with a
+// job queue and a barrier, shown only when complete (section 2.1, the baseline).
+enum class RenderMode { frameless, conventional };
+const char* to_string(RenderMode mode);  // "frameless" / "conventional"
+std::optional<RenderMode> parse_render_mode(const std::string& text);
+
+// Optional replacement for the core's trace_sample (tests, stats and overhead benchmarks use a
+// cheap synthetic image). One indirect call per sample; production leaves it null and the render
+// loop calls trace_sample directly. Must be pure and thread-safe like trace_sample.
+struct SampleShader {
+  SampleResult (*fn)(const void* context, const CameraBasis& camera, float px, float py,
+                     uint64_t rng_seed) = nullptr;
+  const void* context = nullptr;  // passed back to fn
+};
+
+struct EngineConfig {
+  int width = 640;                  // image width in pixels (1..16384)
+  int height = 480;                 // image height in pixels (1..16384)
+  int threads = 0;                  // render threads; 0 = hardware threads (oversubscription works)
+  int chunk_size = 64;              // pixels per chunk of the Hilbert line (partition granularity)
+  double update_percent = 1.0;      // a thread re-reads the camera after this % of its pixels (0.01..100)
+  uint64_t seed = 1;                // mixed with the scene seed into every sample; seeds the shuffles
+  RenderMode mode = RenderMode::frameless;          // see RenderMode
+  PixelOrder order = PixelOrder::hilbert_shuffled;  // see PixelOrder
+  bool jitter = true;               // frameless antialiasing: 2 of 4 stratified positions per update;
+                                    // false: one sample at the pixel centre per update
+  bool track_variance = true;       // keep per-pixel luminance variance (the m2 field)
+  bool deterministic = false;       // virtual clock: nothing renders except inside Engine::advance()
+  uint64_t samples_per_tick = 0;    // deterministic: samples per advance() over all threads, dealt in
+                                    // proportion to pixel counts; 0 = pixels x samples_per_update / 8
+  size_t update_log_capacity = 0;   // per-thread update-log records (0 = off, no cost)
+  SampleShader shader;              // null fn: the core's trace_sample
+};
+
+// Samples taken per pixel update: 2 with jitter (frameless antialiasing), 1 without.
+inline int samples_per_update(const EngineConfig& c) { return c.jitter ? 2 : 1; }
+
+// Checks ranges; returns an empty string when valid, else "FIELD: problem".
+std::string validate(const EngineConfig& config);
+
+}  // namespace frameless

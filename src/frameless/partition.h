@@ -1,0 +1,43 @@
+// Static assignment of pixels to render threads (Parker et al. 1999, section 2.2); built on the
+// control thread, then read-only.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace frameless {
+
+// How the image is linearised and dealt out; issue 5 compares these.
+enum class PixelOrder {
+  hilbert_shuffled,  // Hilbert curve -> chunks -> round-robin -> per-thread seeded chunk shuffle (default)
+  hilbert,           // as above without the shuffle: each thread walks its chunks along the curve
+  scanline,          // row-major line -> chunks -> round-robin, no shuffle
+  random,            // seeded random permutation of all pixels -> chunks -> round-robin
+};
+
+// "hilbert-shuffled", "hilbert", "scanline", "random".
+const char* to_string(PixelOrder order);
+std::optional<PixelOrder> parse_pixel_order(const std::string& text);
+
+struct PartitionConfig {
+  int width = 1;                                  // image width in pixels (>= 1)
+  int height = 1;                                 // image height in pixels (>= 1)
+  int threads = 1;                                // number of render threads (>= 1)
+  int chunk_size = 64;                            // pixels per chunk of the line (>= 1)
+  PixelOrder order = PixelOrder::hilbert_shuffled;  // linearisation and shuffling
+  uint64_t seed = 1;                              // seeds the shuffles
+};
+
+// pixels[t] lists thread t's pixel indices (y * width + x) in the order it visits them, forever
+// repeating. Counts differ by at most one chunk; the union is every pixel exactly once.
+struct Partition {
+  int width = 0;
+  int height = 0;
+  int chunk_size = 0;
+  std::vector<std::vector<uint32_t>> pixels;
+};
+
+Partition make_partition(const PartitionConfig& config);
+
+}  // namespace frameless

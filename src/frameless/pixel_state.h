@@ -1,0 +1,69 @@
+// Per-pixel state: written only by the render thread that owns the pixel, read by the display
+// thread through a per-pixel sequence lock. Every field is an atomic (relaxed stores are plain
+// moves on x86), so the exchange is race-free under ThreadSanitizer without a lock on the writer.
+#pragma once
+#include <atomic>
+#include <cstdint>
+
+#include "core/types.h"
+
+namespace frameless {
+
+// Exactly 64 bytes, one cache line (layout in docs/engine.md):
+//   seq 4 | count 4 | epoch 4 | passes 4 | mean 3x8 | m2 8 | sample 3x4 | time 4
+struct alignas(64) PixelState {
+  std::atomic<uint32_t> seq{0};     // sequence lock: odd while the owner writes, +2 per publish
+  std::atomic<uint32_t> count{0};   // samples since the pixel's current camera epoch began
+  std::atomic<uint32_t> epoch{0};   // camera epoch of the newest sample (0: never sampled)
+  std::atomic<uint32_t> passes{0};  // pixel updates ever: picks the jitter pair and sample indices
+  std::atomic<double> mean[3];      // running mean RGB since the epoch began
+  std::atomic<double> m2{0.0};      // Welford sum of squared deviations of luminance (if tracked)
+  std::atomic<float> sample[3];     // colour of the newest update (mean of its valid samples)
+  std::atomic<float> time{0.0f};    // engine seconds (virtual in deterministic mode) of the newest update
+
+  PixelState() {
+    for (int c = 0; c < 3; ++c) {
+      mean[c].store(0.0, std::memory_order_relaxed);
+      sample[c].store(0.0f, std::memory_order_relaxed);
+    }
+  }
+};
+static_assert(sizeof(PixelState) == 64, "per-pixel state must stay one cache line");
+static_assert(std::atomic<double>::is_always_lock_free && std::atomic<float>::is_always_lock_free);
+
+// A consistent copy of one pixel's published state (what the display thread blends).
+struct PixelSnapshot {
+  Vec3 sample{0.0f};     // newest update's colour (finite)
+  Vec3 mean{0.0f};       // running mean since the epoch began
+  float variance = 0.0f; // unbiased variance of luminance since the epoch began (0 if untracked/n<2)
+  uint32_t count = 0;    // samples since the epoch began
+  uint32_t epoch = 0;    // camera epoch of the newest sample (0: never sampled)
+  float time = 0.0f;     // engine seconds of the newest update
+  uint32_t seq = 0;      // the sequence number it was read at (even); changes with every publish
+};
+
+// Display side: reads `p` without tearing. Retries while the owner writes; returns false (and
+// leaves `out` unspecified) if it could not get a stable copy within `max_tries`.
+inline bool read_pixel(const PixelState& p, PixelSnapshot& out, int max_tries = 64) {
+  for (int i = 0; i < max_tries; ++i) {
+    const uint32_t s0 = p.seq.load(std::memory_order_acquire);
+    if (s0 & 1u) continue;
+    out.count = p.count.load(std::memory_order_relaxed);
+    out.epoch = p.epoch.load(std::memory_order_relaxed);
+    for (int c = 0; c < 3; ++c) {
+      out.mean[c] = float(p.mean[c].load(std::memory_order_relaxed));
+      out.sample[c] = p.sample[c].load(std::memory_order_relaxed);
+    }
+    const double m2 = p.m2.load(std::memory_order_relaxed);
+    out.time = p.time.load(std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (p.seq.load(std::memory_order_relaxed) == s0) {
+      out.variance = out.count > 1 ? float(m2 / double(out.count - 1)) : 0.0f;
+      out.seq = s0;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace frameless
