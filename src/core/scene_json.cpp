@@ -1,11 +1,434 @@
-// JSON scene files; placeholder until the reader lands.
+// JSON scene files (format: docs/scene-format.md). Strict: unknown keys, wrong types, non-finite
+// or out-of-range numbers and unknown material names are errors that name the JSON field path.
+#include <cmath>
+#include <map>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/scene_build.h"
 #include "core/scene_io.h"
 
 namespace frameless {
+namespace {
 
-Result<std::unique_ptr<Scene>> parse_scene_json(const std::string&, const std::string& path,
-                                                const std::string&) {
-  return Error{path + ": JSON scenes not implemented yet"};
+using nlohmann::json;
+
+constexpr int kMaxImageSide = 16384;
+
+// Thrown inside this file only, caught by parse_scene_json and turned into an Error.
+struct Failure {
+  std::string field;
+  std::string what;
+};
+
+[[noreturn]] void fail(const std::string& field, const std::string& what) { throw Failure{field, what}; }
+
+std::string type_name(const json& j) { return j.type_name(); }
+
+const json& require_object(const json& j, const std::string& field) {
+  if (!j.is_object()) fail(field, "expected an object, got " + type_name(j));
+  return j;
+}
+
+// Rejects keys not in `allowed`: catches typos such as "radus".
+void check_keys(const json& j, const std::string& field, std::initializer_list<const char*> allowed) {
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    bool ok = false;
+    for (const char* a : allowed) ok |= it.key() == a;
+    if (!ok) {
+      std::string list;
+      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+      fail(field.empty() ? it.key() : field + "." + it.key(), "unknown key (expected one of: " + list + ")");
+    }
+  }
+}
+
+std::string sub(const std::string& field, const char* key) {
+  return field.empty() ? std::string(key) : field + "." + key;
+}
+
+double get_number(const json& j, const std::string& field) {
+  if (!j.is_number()) fail(field, "expected a number, got " + type_name(j));
+  const double v = j.get<double>();
+  if (!std::isfinite(v) || std::fabs(v) > 3.0e38) fail(field, "number is not finite");
+  return v;
+}
+
+float get_float(const json& j, const std::string& field, double lo, double hi, const char* range) {
+  const double v = get_number(j, field);
+  if (v < lo || v > hi) fail(field, std::string("must be ") + range + " (got " + j.dump() + ")");
+  return float(v);
+}
+
+int64_t get_int(const json& j, const std::string& field, int64_t lo, int64_t hi) {
+  if (!j.is_number_integer()) fail(field, "expected an integer, got " + (j.is_number() ? j.dump() : type_name(j)));
+  if (j.is_number_unsigned() && j.get<uint64_t>() > uint64_t(INT64_MAX))
+    fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + j.dump() + ")");
+  const int64_t v = j.get<int64_t>();
+  if (v < lo || v > hi)
+    fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + j.dump() + ")");
+  return v;
+}
+
+Vec3 get_vec3(const json& j, const std::string& field) {
+  if (!j.is_array() || j.size() != 3) fail(field, "expected an array of 3 numbers");
+  return Vec3(float(get_number(j[0], field + "[0]")), float(get_number(j[1], field + "[1]")),
+              float(get_number(j[2], field + "[2]")));
+}
+
+// A colour: [r, g, b] or one grey number; each component >= 0.
+Vec3 get_color(const json& j, const std::string& field) {
+  const Vec3 c = j.is_number() ? Vec3(float(get_number(j, field))) : get_vec3(j, field);
+  if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) fail(field, "colour components must be >= 0");
+  return c;
+}
+
+Vec3 get_unit(const json& j, const std::string& field) {
+  const Vec3 v = get_vec3(j, field);
+  const float len = glm::length(v);
+  if (!(len > 1e-20f) || !std::isfinite(len)) fail(field, "must be a non-zero vector");
+  return v / len;
+}
+
+std::string get_string(const json& j, const std::string& field) {
+  if (!j.is_string()) fail(field, "expected a string, got " + type_name(j));
+  return j.get<std::string>();
+}
+
+void parse_camera(const json& j, Scene& s) {
+  require_object(j, "camera");
+  check_keys(j, "camera", {"eye", "look", "up", "fov"});
+  if (j.contains("eye")) s.camera.eye = get_vec3(j["eye"], "camera.eye");
+  if (j.contains("look")) s.camera.look = get_vec3(j["look"], "camera.look");
+  if (j.contains("up")) s.camera.up = get_vec3(j["up"], "camera.up");
+  if (j.contains("fov")) s.camera.fov_deg = get_float(j["fov"], "camera.fov", 1e-3, 179.0, "in (0, 179]");
+  if (!camera_is_valid(s.camera))
+    fail("camera", "degenerate camera (eye equals look, or up parallel to the view direction)");
+}
+
+void parse_settings(const json& j, RenderSettings& r) {
+  require_object(j, "settings");
+  check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background", "seed"});
+  if (j.contains("width")) r.width = int(get_int(j["width"], "settings.width", 1, kMaxImageSide));
+  if (j.contains("height")) r.height = int(get_int(j["height"], "settings.height", 1, kMaxImageSide));
+  if (j.contains("spp")) r.spp = int(get_int(j["spp"], "settings.spp", 1, 1 << 20));
+  if (j.contains("max_depth")) r.max_depth = int(get_int(j["max_depth"], "settings.max_depth", 0, 1000));
+  if (j.contains("min_contribution"))
+    r.min_contribution = get_float(j["min_contribution"], "settings.min_contribution", 0.0, 1.0, "in [0, 1]");
+  if (j.contains("background")) r.background = get_color(j["background"], "settings.background");
+  if (j.contains("seed")) {
+    const json& v = j["seed"];
+    if (!v.is_number_unsigned()) fail("settings.seed", "expected a non-negative integer");
+    r.seed = v.get<uint64_t>();
+  }
+}
+
+void parse_ambient(const json& j, Ambient& a) {
+  require_object(j, "ambient");
+  if (!j.contains("type")) fail("ambient.type", "missing (none, constant or hemisphere)");
+  const std::string type = get_string(j["type"], "ambient.type");
+  if (type == "none") {
+    check_keys(j, "ambient", {"type"});
+    a.kind = AmbientKind::kNone;
+  } else if (type == "constant") {
+    check_keys(j, "ambient", {"type", "color"});
+    a.kind = AmbientKind::kConstant;
+    if (j.contains("color")) a.constant = get_color(j["color"], "ambient.color");
+  } else if (type == "hemisphere") {
+    check_keys(j, "ambient", {"type", "a", "b", "axis"});
+    a.kind = AmbientKind::kHemisphere;
+    if (j.contains("a")) a.a = get_color(j["a"], "ambient.a");
+    if (j.contains("b")) a.b = get_color(j["b"], "ambient.b");
+    if (j.contains("axis")) a.axis = get_unit(j["axis"], "ambient.axis");
+  } else {
+    fail("ambient.type", "unknown ambient '" + type + "' (none, constant or hemisphere)");
+  }
+}
+
+void parse_lights(const json& j, Scene& s) {
+  if (!j.is_array()) fail("lights", "expected an array, got " + type_name(j));
+  for (size_t i = 0; i < j.size(); ++i) {
+    const std::string f = "lights[" + std::to_string(i) + "]";
+    const json& l = require_object(j[i], f);
+    const std::string type = l.contains("type") ? get_string(l["type"], f + ".type") : "point";
+    Light light;
+    if (type == "point") {
+      check_keys(l, f, {"type", "position", "color"});
+    } else if (type == "spherical") {
+      check_keys(l, f, {"type", "position", "color", "radius"});
+      if (!l.contains("radius")) fail(f + ".radius", "missing (a spherical light needs a radius > 0)");
+      const double r = get_number(l["radius"], f + ".radius");
+      if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + l["radius"].dump() + ")");
+      light.radius = float(r);
+    } else {
+      fail(f + ".type", "unknown light '" + type + "' (point or spherical)");
+    }
+    if (!l.contains("position")) fail(f + ".position", "missing");
+    light.position = get_vec3(l["position"], f + ".position");
+    if (l.contains("color")) light.color = get_color(l["color"], f + ".color");
+    s.lights.push_back(light);
+  }
+}
+
+Material parse_material(const std::string& name, const json& j, const std::string& f) {
+  require_object(j, f);
+  if (!j.contains("class")) fail(f + ".class", "missing (diffuse, metal, dielectric or polished)");
+  const std::string cls = get_string(j["class"], f + ".class");
+  Material m;
+  m.name = name;
+  if (cls == "diffuse") {
+    m.cls = MaterialClass::kDiffuse;
+    check_keys(j, f, {"class", "kd"});
+  } else if (cls == "metal") {
+    m.cls = MaterialClass::kMetal;
+    check_keys(j, f, {"class", "ks", "phong_exponent"});
+    m.kd = Vec3(0.0f);
+    m.ks = Vec3(0.9f);
+  } else if (cls == "dielectric") {
+    m.cls = MaterialClass::kDielectric;
+    check_keys(j, f, {"class", "ior", "extinction", "kh", "phong_exponent"});
+    m.kd = Vec3(0.0f);
+    m.kh = Vec3(1.0f);
+  } else if (cls == "polished") {
+    m.cls = MaterialClass::kPolished;
+    check_keys(j, f, {"class", "kd", "r0", "kh", "phong_exponent"});
+    m.kh = Vec3(1.0f);
+  } else {
+    fail(f + ".class", "unknown class '" + cls + "' (diffuse, metal, dielectric or polished)");
+  }
+  if (j.contains("kd")) m.kd = get_color(j["kd"], f + ".kd");
+  if (j.contains("ks")) m.ks = get_color(j["ks"], f + ".ks");
+  if (j.contains("kh")) m.kh = get_color(j["kh"], f + ".kh");
+  if (j.contains("phong_exponent"))
+    m.phong_exponent = get_float(j["phong_exponent"], f + ".phong_exponent", 0.0, 1e6, "in [0, 1e6]");
+  if (j.contains("ior")) m.ior = get_float(j["ior"], f + ".ior", 1e-3, 100.0, "in (0, 100]");
+  if (j.contains("extinction")) m.extinction = get_color(j["extinction"], f + ".extinction");
+  if (j.contains("r0")) {
+    m.r0 = get_color(j["r0"], f + ".r0");
+    if (m.r0.x > 1.0f || m.r0.y > 1.0f || m.r0.z > 1.0f) fail(f + ".r0", "must be in [0, 1]");
+  }
+  if (m.cls == MaterialClass::kMetal) m.kh = m.ks;  // metal: k_h = k_s (section 3.1)
+  return m;
+}
+
+glm::mat4 parse_transform(const json& j, const std::string& f) {
+  if (j.is_array()) {
+    // 16 numbers, row-major (the matrix as written on paper).
+    if (j.size() != 16) fail(f, "a matrix needs 16 numbers (row-major 4x4)");
+    glm::mat4 m;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        m[c][r] = float(get_number(j[size_t(r * 4 + c)], f + "[" + std::to_string(r * 4 + c) + "]"));
+    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+      fail(f, "last row must be 0 0 0 1 (affine transforms only)");
+    if (std::fabs(glm::determinant(glm::mat3(m))) < 1e-30f) fail(f, "matrix is singular");
+    return m;
+  }
+  require_object(j, f);
+  check_keys(j, f, {"translate", "rotate", "scale"});
+  glm::mat4 m(1.0f);
+  // Applied to points as scale, then rotate, then translate: M = T R S.
+  if (j.contains("translate")) m = glm::translate(m, get_vec3(j["translate"], f + ".translate"));
+  if (j.contains("rotate")) {
+    const json& r = j["rotate"];
+    const json list = r.is_array() ? r : json::array({r});
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string rf = r.is_array() ? f + ".rotate[" + std::to_string(i) + "]" : f + ".rotate";
+      require_object(list[i], rf);
+      check_keys(list[i], rf, {"axis", "degrees"});
+      if (!list[i].contains("axis")) fail(rf + ".axis", "missing");
+      if (!list[i].contains("degrees")) fail(rf + ".degrees", "missing");
+      const Vec3 axis = get_unit(list[i]["axis"], rf + ".axis");
+      m = glm::rotate(m, glm::radians(float(get_number(list[i]["degrees"], rf + ".degrees"))), axis);
+    }
+  }
+  if (j.contains("scale")) {
+    const json& s = j["scale"];
+    const Vec3 v = s.is_number() ? Vec3(float(get_number(s, f + ".scale"))) : get_vec3(s, f + ".scale");
+    if (v.x == 0.0f || v.y == 0.0f || v.z == 0.0f) fail(f + ".scale", "must be non-zero");
+    m = glm::scale(m, v);
+  }
+  return m;
+}
+
+struct Context {
+  Scene& scene;
+  std::map<std::string, uint16_t> materials;
+  std::string base_dir;
+};
+
+uint16_t object_material(const json& o, const std::string& f, const Context& ctx) {
+  if (!o.contains("material")) fail(f + ".material", "missing");
+  const std::string name = get_string(o["material"], f + ".material");
+  const auto it = ctx.materials.find(name);
+  if (it == ctx.materials.end()) fail(f + ".material", "unknown material '" + name + "'");
+  return it->second;
+}
+
+const json& need(const json& o, const std::string& f, const char* key) {
+  if (!o.contains(key)) fail(sub(f, key), "missing");
+  return o[key];
+}
+
+void check_mesh_size(const Scene& s, size_t more, const std::string& f) {
+  if (s.geometry.positions.size() + more > size_t(0xfffffff0u)) fail(f, "scene has too many vertices");
+}
+
+void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t mat) {
+  check_keys(o, f, {"type", "vertices", "normals", "indices", "material", "transform"});
+  MeshData mesh;
+  const json& v = need(o, f, "vertices");
+  if (!v.is_array()) fail(f + ".vertices", "expected an array of [x, y, z]");
+  check_mesh_size(ctx.scene, v.size(), f + ".vertices");
+  for (size_t i = 0; i < v.size(); ++i) mesh.positions.push_back(get_vec3(v[i], f + ".vertices[" + std::to_string(i) + "]"));
+  if (o.contains("normals")) {
+    const json& n = o["normals"];
+    if (!n.is_array() || n.size() != v.size()) fail(f + ".normals", "expected one [x, y, z] per vertex");
+    for (size_t i = 0; i < n.size(); ++i) mesh.normals.push_back(get_unit(n[i], f + ".normals[" + std::to_string(i) + "]"));
+  }
+  const json& ix = need(o, f, "indices");
+  if (!ix.is_array()) fail(f + ".indices", "expected an array of [i, j, k]");
+  for (size_t i = 0; i < ix.size(); ++i) {
+    const std::string tf = f + ".indices[" + std::to_string(i) + "]";
+    if (!ix[i].is_array() || ix[i].size() != 3) fail(tf, "expected 3 vertex indices");
+    UVec3 t;
+    for (int k = 0; k < 3; ++k) {
+      const std::string kf = tf + "[" + std::to_string(k) + "]";
+      if (mesh.positions.empty()) fail(kf, "index out of range (no vertices)");
+      t[k] = uint32_t(get_int(ix[i][size_t(k)], kf, 0, int64_t(mesh.positions.size()) - 1));
+    }
+    mesh.triangles.push_back(t);
+  }
+  if (mesh.triangles.empty()) fail(f + ".indices", "empty mesh (no triangles)");
+  const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
+  add_mesh(ctx.scene, mesh, m, mat);
+}
+
+void parse_object(const json& o, const std::string& f, Context& ctx) {
+  require_object(o, f);
+  const std::string type = get_string(need(o, f, "type"), f + ".type");
+  Scene& s = ctx.scene;
+  if (type == "sphere") {
+    check_keys(o, f, {"type", "center", "radius", "material"});
+    const Vec3 c = get_vec3(need(o, f, "center"), f + ".center");
+    const double r = get_number(need(o, f, "radius"), f + ".radius");
+    if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + o["radius"].dump() + ")");
+    add_sphere(s, c, float(r), object_material(o, f, ctx));
+  } else if (type == "mesh") {
+    check_keys(o, f, {"type", "file", "transform", "material"});
+    const std::string file = get_string(need(o, f, "file"), f + ".file");
+    const uint16_t mat = object_material(o, f, ctx);
+    const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
+    const std::string full = !file.empty() && file[0] == '/' ? file : ctx.base_dir + "/" + file;
+    auto mesh = load_mesh(full);
+    if (!mesh) fail(f + ".file", mesh.error().message);
+    check_mesh_size(s, mesh->positions.size(), f + ".file");
+    add_mesh(s, *mesh, m, mat);
+  } else if (type == "triangles") {
+    parse_triangles(o, f, ctx, object_material(o, f, ctx));
+  } else if (type == "plane") {
+    check_keys(o, f, {"type", "point", "normal", "size", "material"});
+    const Vec3 p = get_vec3(need(o, f, "point"), f + ".point");
+    const Vec3 n = get_unit(need(o, f, "normal"), f + ".normal");
+    const double size = get_number(need(o, f, "size"), f + ".size");
+    if (!(size > 0.0)) fail(f + ".size", "must be > 0 (got " + o["size"].dump() + ")");
+    add_quad(s, p, n, float(size), object_material(o, f, ctx));
+  } else if (type == "box") {
+    check_keys(o, f, {"type", "min", "max", "material"});
+    const Vec3 lo = get_vec3(need(o, f, "min"), f + ".min");
+    const Vec3 hi = get_vec3(need(o, f, "max"), f + ".max");
+    if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) fail(f, "box min must be below max on every axis");
+    add_box(s, lo, hi, object_material(o, f, ctx));
+  } else {
+    fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, plane or box)");
+  }
+}
+
+void parse_scene(const json& root, Context& ctx) {
+  Scene& s = ctx.scene;
+  require_object(root, "(top level)");
+  check_keys(root, "", {"camera", "settings", "ambient", "lights", "materials", "objects"});
+  if (root.contains("settings")) parse_settings(root["settings"], s.settings);
+  s.ambient = default_hemisphere_ambient();
+  if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
+  if (root.contains("lights")) parse_lights(root["lights"], s);
+  if (root.contains("materials")) {
+    const json& mats = require_object(root["materials"], "materials");
+    if (mats.size() > 65535) fail("materials", "too many materials (at most 65535)");
+    for (auto it = mats.begin(); it != mats.end(); ++it) {
+      const std::string f = "materials." + it.key();
+      ctx.materials[it.key()] = add_material(s, parse_material(it.key(), it.value(), f));
+    }
+  }
+  if (!root.contains("objects")) fail("objects", "missing (a scene needs at least one object)");
+  const json& objs = root["objects"];
+  if (!objs.is_array()) fail("objects", "expected an array, got " + type_name(objs));
+  if (objs.empty()) fail("objects", "empty (a scene needs at least one object)");
+  for (size_t i = 0; i < objs.size(); ++i) parse_object(objs[i], "objects[" + std::to_string(i) + "]", ctx);
+  Vec3 lo, hi;
+  scene_bounds(s.geometry, lo, hi);
+  if (!is_finite(lo) || !is_finite(hi)) fail("objects", "geometry extends beyond finite coordinates");
+  if (root.contains("camera")) {
+    parse_camera(root["camera"], s);
+  } else {
+    s.camera = frame_camera(lo, hi, s.settings.width, s.settings.height);
+  }
+}
+
+// Line and column (1-based) of a byte offset.
+std::string line_col(const std::string& text, size_t byte) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < std::min(byte, text.size()); ++i) {
+    if (text[i] == '\n') ++line, col = 1;
+    else ++col;
+  }
+  return std::to_string(line) + ":" + std::to_string(col);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const std::string& path,
+                                                const std::string& base_dir) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // nlohmann's message carries "[json.exception...] parse error at line L, column C: WHAT".
+    std::string what = e.what();
+    const size_t colon = what.find(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    for (char& c : what)
+      if (c == '\n' || c == '\r') c = ' ';
+    // e.byte is one past the offending character.
+    return Error{path + ":" + line_col(text, e.byte > 0 ? e.byte - 1 : 0) + ": JSON syntax error: " + what};
+  } catch (const json::exception& e) {
+    // A number too large for a double ("1e999") is reported without a position: find the
+    // token nlohmann quotes in its message to name the line.
+    std::string what = e.what();
+    const size_t colon = what.find("] ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    const size_t q1 = what.find('\''), q2 = what.rfind('\'');
+    std::string where;
+    if (q1 != std::string::npos && q2 > q1 + 1) {
+      const size_t at = text.find(what.substr(q1 + 1, q2 - q1 - 1));
+      if (at != std::string::npos) where = ":" + line_col(text, at);
+    }
+    return Error{path + where + ": JSON error: " + what};
+  }
+  auto scene = std::make_unique<Scene>();
+  const size_t slash = path.find_last_of('/');
+  scene->name = slash == std::string::npos ? path : path.substr(slash + 1);
+  Context ctx{*scene, {}, base_dir};
+  try {
+    parse_scene(root, ctx);
+  } catch (const Failure& f) {
+    return Error{path + ": " + f.field + ": " + f.what};
+  } catch (const json::exception& e) {
+    return Error{path + ": " + e.what()};
+  }
+  finalize_scene(*scene);
+  return scene;
 }
 
 }  // namespace frameless
