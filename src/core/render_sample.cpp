@@ -1,0 +1,46 @@
+// The pure per-sample function: camera ray, Whitted shading, NaN/Inf guard.
+#include "core/render_sample.h"
+
+#include "core/rng.h"
+#include "core/shading.h"
+
+namespace frameless {
+
+SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
+                          uint64_t rng_seed) {
+  // Shading is deterministic today (hard shadows); the seed is kept for soft shadows later.
+  (void)rng_seed;
+  const Ray ray = camera_ray(camera, px, py);
+  SampleResult out;
+  Hit hit;
+  SurfacePoint sp;
+  out.color = trace_radiance(scene, ray, 0, Vec3(1.0f), nullptr, &hit, &sp);
+  if (hit.valid()) {
+    out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
+    out.normal = sp.ns;
+  }
+  // Drop any sample in which a NaN or Inf arose; the caller counts it.
+  out.valid = is_finite(out.color) && is_finite(out.normal) && out.depth == out.depth &&
+              (hit.valid() ? out.depth < kInfinity : true);
+  if (!out.valid) {
+    out.color = Vec3(0.0f);
+    out.normal = Vec3(0.0f);
+    out.depth = kInfinity;
+  }
+  return out;
+}
+
+SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x, int y,
+                           uint32_t sample_index, bool jitter) {
+  const uint64_t seed = sample_seed(uint32_t(x), uint32_t(y), sample_index, scene.settings.seed);
+  float jx = 0.5f, jy = 0.5f;
+  if (jitter) {
+    Rng rng(seed);
+    jx = rng.next_float();
+    jy = rng.next_float();
+  }
+  // A distinct stream for shading, so jitter and shading choices never share numbers.
+  return trace_sample(scene, camera, float(x) + jx, float(y) + jy, mix64(seed ^ 0x5bd1e995ull));
+}
+
+}  // namespace frameless

@@ -1,0 +1,240 @@
+// Parker et al. 1999 shading, section 3.1: each material class evaluates only its non-zero terms.
+//
+// Conventions: e is the unit vector toward the viewer (-ray.dir), n the shading normal turned
+// toward e, l the unit vector toward a light, h = normalize(e + l).
+//
+// The seed's OCR prints the Phong highlight as (h.l)^N in equations 1 and 2. Since
+// h.l = h.e for every surface orientation, that term could not depend on the normal and would
+// give no highlight at all; it is OCR damage of the Blinn-Phong (h.n)^N, which we use.
+// Equation 2 prints the polished highlight as s k_h (h.l)^N without l_e; we multiply by l_e as
+// equation 1 does, so coloured and multiple lights act alike on every class (same for white).
+#include "core/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace frameless {
+
+namespace {
+
+inline float pow5(float x) {
+  const float x2 = x * x;
+  return x2 * x2 * x;
+}
+
+inline float max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// Blinn-Phong lobe (h.n)^N, zero when h points below the surface.
+inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {
+  const Vec3 h = glm::normalize(e + l);
+  const float hn = glm::dot(h, n);
+  return hn > 0.0f ? std::pow(hn, exponent) : 0.0f;
+}
+
+// Calls f(l_e, l, n.l) for each light that faces the surface and is not occluded (s = 1).
+// Hard shadows: one any-hit ray to the light's centre, ending just short of the light.
+template <class F>
+inline void for_each_visible_light(const Scene& scene, const SurfacePoint& sp, F&& f) {
+  const Vec3 origin = offset_ray_origin(sp.p, sp.ng);
+  for (const Light& light : scene.lights) {
+    const Vec3 to_light = light.position - origin;
+    const float dist = glm::length(to_light);
+    if (!(dist > 0.0f)) continue;
+    const Vec3 l = to_light / dist;
+    const float nl = glm::dot(sp.ns, l);
+    // A light behind the shading or the geometric surface cannot light it (s = 0).
+    if (nl <= 0.0f || glm::dot(sp.ng, l) <= 0.0f) continue;
+    Ray shadow;
+    shadow.org = origin;
+    shadow.dir = l;
+    shadow.tmin = 0.0f;
+    // Stop short of the light: its centre, or the surface of a spherical light.
+    shadow.tmax = std::max(0.0f, dist - light.radius) * (1.0f - 0x1.0p-12f);
+    if (shadow.tmax > 0.0f && scene.accel.occluded(shadow)) continue;
+    f(light.color, l, nl);
+  }
+}
+
+// Traces a secondary ray when the depth limit and the pruning threshold allow it.
+inline Vec3 trace_child(const Scene& scene, const Vec3& origin, const Vec3& dir, int depth,
+                        const Vec3& child_weight, const Material* medium) {
+  if (depth >= scene.settings.max_depth) return Vec3(0.0f);
+  // Zero-weight branches are always pruned, so a threshold of 0 cannot explode the tree.
+  const float w = max_component(child_weight);
+  if (w <= 0.0f || w < scene.settings.min_contribution) return Vec3(0.0f);
+  Ray r;
+  r.org = origin;
+  r.dir = glm::normalize(dir);
+  r.tmin = 0.0f;
+  return trace_radiance(scene, r, depth + 1, child_weight, medium);
+}
+
+// Mirror direction of d about n; falls back to the geometric normal if the shading normal
+// would send the ray below the surface.
+inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) {
+  Vec3 r = d - 2.0f * glm::dot(d, sp.ns) * sp.ns;
+  if (glm::dot(r, sp.ng) <= 0.0f) r = d - 2.0f * glm::dot(d, sp.ng) * sp.ng;
+  return r;
+}
+
+Vec3 shade_diffuse(const Scene& scene, const Material& m, const SurfacePoint& sp) {
+  // Equation 1 with k_h = k_s = k_t = 0: k_d (l_a + s l_e n.l).
+  Vec3 light_sum = ambient_light(scene.ambient, sp.ns);
+  if (scene.features.has_lights)
+    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3&, float nl) {
+      light_sum += le * nl;
+    });
+  return m.kd * light_sum;
+}
+
+Vec3 shade_metal(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
+                 int depth, const Vec3& weight, const Material* medium) {
+  // Equation 1 with k_d = k_t = 0 and k_h = k_s: s l_e k_s (h.n)^N + k_s L_s.
+  const Vec3 e = -ray.dir;
+  Vec3 out(0.0f);
+  if (scene.features.has_lights)
+    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float) {
+      out += le * m.ks * phong_lobe(sp.ns, e, l, m.phong_exponent);
+    });
+  out += m.ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
+                            weight * m.ks, medium);
+  return out;
+}
+
+Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m,
+                      const SurfacePoint& sp, int depth, const Vec3& weight,
+                      const Material* medium) {
+  // Equation 1 with k_d = 0, k_s from Schlick, k_t = 1 - k_s, plus a Phong term.
+  const Vec3 e = -ray.dir;
+  const float cos_i = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
+  // Entering through the outward side goes from air (1) into the material (ior).
+  const float eta = sp.front_face ? 1.0f / m.ior : m.ior;
+  const FresnelTerms f = dielectric_fresnel(cos_i, eta, r0_from_ior(m.ior));
+  Vec3 out(0.0f);
+  if (scene.features.has_highlights && scene.features.has_lights && max_component(m.kh) > 0.0f)
+    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float) {
+      out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
+    });
+  // Reflection stays on the incident side, in the incident medium.
+  out += f.ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
+                            weight * f.ks, medium);
+  if (!f.total_internal_reflection) {
+    const Vec3 t = eta * ray.dir + (eta * cos_i - f.cos_t) * sp.ns;
+    // Leaving returns to air: nested dielectrics are not tracked (one medium at a time).
+    const Material* next = sp.front_face ? &m : nullptr;
+    out += f.kt * trace_child(scene, offset_ray_origin(sp.p, -sp.ng), t, depth, weight * f.kt,
+                              next);
+  }
+  return out;
+}
+
+Vec3 shade_polished(const Scene& scene, const Ray& ray, const Material& m,
+                    const SurfacePoint& sp, int depth, const Vec3& weight,
+                    const Material* medium) {
+  // Equation 2 (coupled model): k_d l_a (1 - k_s(e,n)) + s k_d l_e (1 - (1 - n.e)^5)(1 - (1 - n.l)^5)
+  //                            + s k_h l_e (h.n)^N + k_s(e,n) L_s.
+  const Vec3 e = -ray.dir;
+  const float en = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
+  const Vec3 ks = schlick(en, m.r0);
+  Vec3 out = m.kd * ambient_light(scene.ambient, sp.ns) * (Vec3(1.0f) - ks);
+  if (scene.features.has_lights) {
+    const float view_factor = 1.0f - pow5(1.0f - en);
+    const bool highlight = max_component(m.kh) > 0.0f;
+    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float nl) {
+      out += m.kd * le * (view_factor * (1.0f - pow5(1.0f - nl)));
+      if (highlight) out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
+    });
+  }
+  out += ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
+                          weight * ks, medium);
+  return out;
+}
+
+}  // namespace
+
+float schlick(float cos_theta, float r0) {
+  const float c = std::clamp(cos_theta, 0.0f, 1.0f);
+  return r0 + (1.0f - r0) * pow5(1.0f - c);
+}
+
+Vec3 schlick(float cos_theta, const Vec3& r0) {
+  const float c = std::clamp(cos_theta, 0.0f, 1.0f);
+  return r0 + (Vec3(1.0f) - r0) * pow5(1.0f - c);
+}
+
+float r0_from_ior(float ior) {
+  const float r = (ior - 1.0f) / (ior + 1.0f);
+  return r * r;
+}
+
+Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Vec3& n) {
+  const float cos_theta = std::clamp(glm::dot(n, axis), -1.0f, 1.0f);
+  const float half_sin = 0.5f * std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  // Seed 3.1.1, piecewise: theta < pi/2 (cos > 0) sees mostly A, otherwise mostly B.
+  if (cos_theta > 0.0f) return (1.0f - half_sin) * a + half_sin * b;
+  return half_sin * a + (1.0f - half_sin) * b;
+}
+
+Vec3 ambient_light(const Ambient& ambient, const Vec3& n) {
+  switch (ambient.kind) {
+    case AmbientKind::kNone: return Vec3(0.0f);
+    case AmbientKind::kConstant: return ambient.constant;
+    case AmbientKind::kHemisphere: return hemisphere_ambient(ambient.a, ambient.b, ambient.axis, n);
+  }
+  return Vec3(0.0f);
+}
+
+FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0) {
+  FresnelTerms f;
+  const float c = std::clamp(cos_i, 0.0f, 1.0f);
+  const float sin2_t = eta * eta * (1.0f - c * c);
+  if (sin2_t >= 1.0f) return f;  // total internal reflection: everything reflects
+  f.cos_t = std::sqrt(1.0f - sin2_t);
+  f.total_internal_reflection = false;
+  // Schlick with the cosine of the larger angle (the side of the less dense medium), the usual
+  // choice that keeps k_s symmetric between entering and leaving; equals e.n when entering.
+  f.ks = schlick(std::min(c, f.cos_t), r0);
+  f.kt = 1.0f - f.ks;
+  return f;
+}
+
+Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
+                   const Vec3& weight, const Material* medium) {
+  const Material& m = scene.materials[sp.material];
+  switch (m.cls) {
+    case MaterialClass::kDiffuse: return shade_diffuse(scene, m, sp);
+    case MaterialClass::kMetal: return shade_metal(scene, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kDielectric:
+      return shade_dielectric(scene, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kPolished:
+      return shade_polished(scene, ray, m, sp, depth, weight, medium);
+  }
+  return Vec3(0.0f);
+}
+
+Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
+                    const Material* medium, Hit* first_hit, SurfacePoint* first_point) {
+  Hit hit;
+  const bool found = scene.accel.intersect(ray, hit);
+  if (first_hit) *first_hit = hit;
+  // Light travelling inside a dielectric decays as exp(-kappa t) over the distance t inside.
+  Vec3 attenuation(1.0f);
+  const bool absorbing = medium && max_component(medium->extinction) > 0.0f;
+  if (absorbing) {
+    for (int c = 0; c < 3; ++c) {
+      const float kappa = medium->extinction[c];
+      attenuation[c] = kappa > 0.0f ? (found ? std::exp(-kappa * hit.t) : 0.0f) : 1.0f;
+    }
+  }
+  if (!found) return attenuation * scene.settings.background;
+  const SurfacePoint sp = surface_point(scene.geometry, ray, hit);
+  if (first_point) *first_point = sp;
+  if (!absorbing) return shade_surface(scene, ray, sp, depth, weight, medium);
+  const Vec3 w = weight * attenuation;
+  // Prune a branch the medium has already dimmed below the threshold.
+  const float wmax = max_component(w);
+  if (wmax <= 0.0f || wmax < scene.settings.min_contribution) return Vec3(0.0f);
+  return attenuation * shade_surface(scene, ray, sp, depth, w, medium);
+}
+
+}  // namespace frameless

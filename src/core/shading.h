@@ -1,0 +1,44 @@
+// Parker et al. 1999 shading (section 3.1): material classes, Schlick, ambient, point/spherical
+// lights and Whitted recursion; pure functions called on render threads (any thread).
+#pragma once
+#include "core/scene.h"
+#include "core/surface.h"
+
+namespace frameless {
+
+// Schlick's approximation k_s = R0 + (1 - R0)(1 - cos)^5, cos clamped to [0, 1].
+float schlick(float cos_theta, float r0);
+Vec3 schlick(float cos_theta, const Vec3& r0);
+
+// Normal-incidence reflectance ((n - 1) / (n + 1))^2 of an interface to a medium of index ior.
+float r0_from_ior(float ior);
+
+// Hemisphere ambient of section 3.1.1 (Nusselt's analog): A at theta = 0, (A + B)/2 at pi/2,
+// B at pi, theta the angle between the shading normal n (unit) and the ambient axis.
+Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Vec3& n);
+
+// l_a for shading normal n under any ambient kind (none, constant, hemisphere).
+Vec3 ambient_light(const Ambient& ambient, const Vec3& n);
+
+// Reflection and transmission weights at a dielectric interface. cos_i = e . n >= 0 on the
+// incident side; eta = n_incident / n_transmitted. Total internal reflection gives ks = 1, kt = 0.
+struct FresnelTerms {
+  float ks = 1.0f;
+  float kt = 0.0f;
+  float cos_t = 0.0f;  // cosine of the transmitted direction with -n (0 under TIR)
+  bool total_internal_reflection = true;
+};
+FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0);
+
+// Radiance along `ray` (unit direction) in the medium `medium` (nullptr: outside every
+// dielectric). depth counts bounces already taken, weight is the ray's accumulated ray-tree weight
+// (for pruning). Returns the radiance; `first_hit` (optional) receives the closest hit.
+Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
+                    const Material* medium, Hit* first_hit = nullptr,
+                    SurfacePoint* first_point = nullptr);
+
+// Equation 1/2 at one surface point seen along ray (the hit already found), with recursion.
+Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
+                   const Vec3& weight, const Material* medium);
+
+}  // namespace frameless
