@@ -10,3 +10,8 @@ find_package(embree 3 QUIET CONFIG)  # optional, bench-only: frameless bench ray
 if(embree_FOUND)
   message(STATUS "Embree ${embree_VERSION} found: bench rays will compare against it")
 endif()
+# Viewer and headless capture: GLFW for the window, OSMesa for offscreen GL (GL entry points are
+# fetched through each context's own loader, so libGL itself is never linked).
+find_package(glfw3 3.3 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
