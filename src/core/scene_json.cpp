@@ -12,7 +12,8 @@
 namespace frameless {
 namespace {
 
-using nlohmann::json;
+// ordered_json keeps materials (and so material ids) in file order.
+using json = nlohmann::ordered_json;
 
 constexpr int kMaxImageSide = 16384;
 
