@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "display/blend.h"
@@ -61,6 +63,8 @@ class DisplayThread {
   void set_on_tick(std::function<void(const DisplayImage&)> callback);
 
   DisplayStats stats() const;
+  // The error that stopped the display thread (an exception in a tick or callback); empty if none.
+  std::optional<std::string> error() const;
 
   struct Impl;
 

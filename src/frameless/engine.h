@@ -49,6 +49,8 @@ struct UpdateCursor {
   std::vector<uint64_t> thread_updates;  // per render thread: updates already collected
   std::vector<uint32_t> last_seq;        // per pixel: sequence number last collected
   uint64_t frame = 0;                    // conventional: completed frames already collected
+  int width = 0;                         // image size it last saw (a change sets CollectResult::reset)
+  int height = 0;
 };
 
 // What one collect_updates() call found.
@@ -101,7 +103,7 @@ class Engine {
   // samples_per_tick, then the virtual clock advances by `tick_seconds`. Returns when all are done.
   void advance(double tick_seconds);
   uint64_t ticks() const;  // advance() calls since start()
-  // Engine seconds since start(): wall clock, or the virtual clock in deterministic mode.
+  // Engine seconds since construction: wall clock, or the virtual clock in deterministic mode.
   double now() const;
 
   // Display thread: appends every pixel updated since `cursor` (each at most once, as a

@@ -1,0 +1,34 @@
+// DisplayImage helpers.
+#include "display/display_image.h"
+
+#include <limits>
+
+namespace frameless {
+
+float DisplayImage::age(size_t i) const {
+  if (i >= last_update.size() || last_update[i] < 0.0f) return std::numeric_limits<float>::infinity();
+  return float(info.virtual_time) - last_update[i];
+}
+
+void DisplayImage::reset(int w, int h) {
+  width = w;
+  height = h;
+  const size_t n = pixels();
+  rgb.assign(3 * n, 0.0f);
+  last_update.assign(n, -1.0f);
+  sample_count.assign(n, 0);
+  variance.assign(n, 0.0f);
+  epoch.assign(n, 0);
+}
+
+void copy_pixel(const DisplayImage& src, DisplayImage& dst, size_t i) {
+  dst.rgb[3 * i] = src.rgb[3 * i];
+  dst.rgb[3 * i + 1] = src.rgb[3 * i + 1];
+  dst.rgb[3 * i + 2] = src.rgb[3 * i + 2];
+  dst.last_update[i] = src.last_update[i];
+  dst.sample_count[i] = src.sample_count[i];
+  dst.variance[i] = src.variance[i];
+  dst.epoch[i] = src.epoch[i];
+}
+
+}  // namespace frameless

@@ -1,0 +1,372 @@
+// Engine control: layout (partition, pixel state, jobs), thread start/stop, deterministic
+// stepping, the display-side collection of updates, and instrumentation.
+#include "frameless/engine.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/rng.h"
+#include "frameless/engine_impl.h"
+
+namespace frameless {
+
+void Engine::Impl::record_error(const std::string& message) {
+  {
+    std::lock_guard<std::mutex> lock(error_mutex);
+    if (!error) error = message;
+  }
+  stop_flag.store(true, std::memory_order_relaxed);
+}
+
+namespace {
+
+int resolve_threads(int requested) {
+  if (requested > 0) return requested;
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw ? int(hw) : 1;
+}
+
+// Rebuilds everything that depends on size, thread count, order or mode. Threads are stopped.
+void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
+  std::lock_guard<std::mutex> lock(e.layout_mutex);
+  e.threads = resolve_threads(e.cfg.threads);
+  e.partition = make_partition({e.cfg.width, e.cfg.height, e.threads, e.cfg.chunk_size,
+                                e.cfg.order, e.cfg.seed});
+  const size_t n = size_t(e.cfg.width) * size_t(e.cfg.height);
+  if (clear_pixels || n != e.pixel_count) {
+    e.pixels.reset(new PixelState[n]);
+    e.pixel_count = n;
+  }
+  e.jobs = make_tile_jobs(e.cfg.width, e.cfg.height, e.threads);
+  e.job_pixels = tile_job_pixels(e.cfg.width, e.cfg.height, e.jobs);
+  e.job_first_pixel.assign(1, 0);
+  for (const TileJob& j : e.jobs) {
+    size_t pixels = 0;
+    const uint32_t tx = uint32_t((e.cfg.width + kTileWidth - 1) / kTileWidth);
+    for (uint32_t t = j.first_tile; t < j.first_tile + j.tiles; ++t) {
+      const int x0 = int(t % tx) * kTileWidth, y0 = int(t / tx) * kTileHeight;
+      pixels += size_t(std::min(kTileWidth, e.cfg.width - x0)) *
+                size_t(std::min(kTileHeight, e.cfg.height - y0));
+    }
+    e.job_first_pixel.push_back(e.job_first_pixel.back() + pixels);
+  }
+  for (auto& b : e.frames.buf) b.assign(n, PixelSnapshot{});
+  e.sample_seed_base = mix64(e.scene.settings.seed ^ mix64(e.cfg.seed));
+  e.generation.fetch_add(1, std::memory_order_release);
+}
+
+}  // namespace
+
+Engine::Engine(const Scene& scene, const EngineConfig& config, const Camera& camera)
+    : impl_(std::make_unique<Impl>(scene, config, camera)) {
+  const std::string problem = validate(config);
+  if (!problem.empty()) throw std::invalid_argument("engine config: " + problem);
+  rebuild_layout(*impl_, true);
+}
+
+Engine::~Engine() { stop(); }
+
+void Engine::start() {
+  Impl& e = *impl_;
+  if (e.running) return;
+  {
+    std::lock_guard<std::mutex> lock(e.layout_mutex);
+    e.stop_flag.store(false, std::memory_order_relaxed);
+    e.counters.reset(new ThreadCounters[size_t(e.threads)]);
+    e.logs.assign(size_t(e.threads), UpdateLog{});
+    if (e.cfg.update_log_capacity > 0)
+      for (UpdateLog& l : e.logs) l.records.reserve(e.cfg.update_log_capacity);
+    e.workers.assign(size_t(e.threads), FramelessWorker{});
+    for (int t = 0; t < e.threads; ++t) {
+      FramelessWorker& w = e.workers[size_t(t)];
+      w.index = t;
+      w.pixels = &e.partition.pixels[size_t(t)];
+      const double n = double(w.pixels->size());
+      w.interval = std::max<uint64_t>(1, uint64_t(std::ceil(e.cfg.update_percent / 100.0 * n)));
+      // Stagger the camera checks so threads do not switch in lockstep.
+      w.countdown = w.interval - (w.interval * uint64_t(t)) / uint64_t(e.threads);
+      w.log = e.cfg.update_log_capacity > 0 ? &e.logs[size_t(t)] : nullptr;
+      uint32_t ep = 0;
+      const Camera cam = e.channel.read(&ep);
+      w.basis = make_camera_basis(cam, e.cfg.width, e.cfg.height);
+      w.epoch = ep;
+    }
+    e.frames.middle.store(1, std::memory_order_relaxed);
+    e.frames.back = 0;
+    e.frames.front = 2;
+    e.frames.completed.store(0, std::memory_order_relaxed);
+    e.next_job.store(0, std::memory_order_relaxed);
+    e.frame_stop = false;
+    begin_frame(e);
+    e.ticks.store(0, std::memory_order_relaxed);
+    e.start_time.store(e.now(), std::memory_order_relaxed);
+    e.generation.fetch_add(1, std::memory_order_release);
+  }
+  e.running = true;
+  if (e.cfg.deterministic) {
+    e.pool_quit = false;
+    e.pool_generation = 0;
+    for (int t = 0; t < e.threads; ++t) e.thread_handles.emplace_back(pool_thread_main, std::ref(e), t);
+  } else if (e.cfg.mode == RenderMode::frameless) {
+    for (int t = 0; t < e.threads; ++t)
+      e.thread_handles.emplace_back(frameless_thread_main, std::ref(e), t);
+  } else {
+    e.barrier = std::make_unique<std::barrier<Impl::FrameDone>>(e.threads, Impl::FrameDone{&e});
+    for (int t = 0; t < e.threads; ++t)
+      e.thread_handles.emplace_back(conventional_thread_main, std::ref(e), t);
+  }
+}
+
+void Engine::stop() {
+  Impl& e = *impl_;
+  if (!e.running) return;
+  e.stop_flag.store(true, std::memory_order_relaxed);
+  if (e.cfg.deterministic) {
+    std::lock_guard<std::mutex> lock(e.pool_mutex);
+    e.pool_quit = true;
+    e.pool_cv.notify_all();
+  }
+  for (std::thread& t : e.thread_handles) t.join();
+  e.thread_handles.clear();
+  e.barrier.reset();
+  e.running = false;
+}
+
+bool Engine::running() const { return impl_->running; }
+
+uint32_t Engine::publish_camera(const Camera& camera) {
+  if (!camera_is_valid(camera)) throw std::invalid_argument("publish_camera: invalid camera");
+  return impl_->channel.publish(camera);
+}
+uint32_t Engine::camera_epoch() const { return impl_->channel.epoch(); }
+Camera Engine::camera() const { return impl_->channel.read(); }
+
+void Engine::reconfigure(const EngineConfig& config) {
+  const std::string problem = validate(config);
+  if (!problem.empty()) throw std::invalid_argument("engine config: " + problem);
+  Impl& e = *impl_;
+  const bool was_running = e.running;
+  stop();
+  const bool resized = config.width != e.cfg.width || config.height != e.cfg.height;
+  e.cfg = config;
+  rebuild_layout(e, resized);
+  if (was_running) start();
+}
+
+void Engine::resize(int width, int height) {
+  EngineConfig c = impl_->cfg;
+  c.width = width;
+  c.height = height;
+  reconfigure(c);
+}
+void Engine::set_mode(RenderMode mode) {
+  EngineConfig c = impl_->cfg;
+  c.mode = mode;
+  reconfigure(c);
+}
+void Engine::set_threads(int threads) {
+  EngineConfig c = impl_->cfg;
+  c.threads = threads;
+  reconfigure(c);
+}
+void Engine::set_update_percent(double percent) {
+  EngineConfig c = impl_->cfg;
+  c.update_percent = percent;
+  reconfigure(c);
+}
+
+EngineConfig Engine::config() const {
+  EngineConfig c = impl_->cfg;
+  c.threads = impl_->threads;
+  return c;
+}
+int Engine::width() const { return impl_->cfg.width; }
+int Engine::height() const { return impl_->cfg.height; }
+int Engine::thread_count() const { return impl_->threads; }
+const Partition& Engine::partition() const { return impl_->partition; }
+
+namespace {
+
+// Runs task(t) on every pool thread and waits for all.
+void run_pool(Engine::Impl& e, std::function<void(int)> task) {
+  std::unique_lock<std::mutex> lock(e.pool_mutex);
+  e.pool_task = std::move(task);
+  e.pool_pending = e.threads;
+  ++e.pool_generation;
+  e.pool_cv.notify_all();
+  e.pool_done_cv.wait(lock, [&] { return e.pool_pending == 0; });
+}
+
+}  // namespace
+
+void Engine::advance(double tick_seconds) {
+  Impl& e = *impl_;
+  if (!e.cfg.deterministic) throw std::logic_error("advance: engine is not deterministic");
+  if (!e.running) start();
+  if (e.stop_flag.load(std::memory_order_relaxed)) return;  // a render thread failed
+  const uint64_t spu = uint64_t(samples_per_update(e.cfg));
+  const uint64_t per_tick = e.cfg.samples_per_tick > 0 ? std::max<uint64_t>(1, e.cfg.samples_per_tick / spu)
+                                                       : std::max<uint64_t>(1, e.pixel_count / 8);
+  const uint64_t k = e.ticks.load(std::memory_order_relaxed);
+  const double t_begin = e.virtual_time.load(std::memory_order_relaxed);
+
+  if (e.cfg.mode == RenderMode::frameless) {
+    // Thread t's cumulative budget after k ticks: floor(k * per_tick * n_t / N), exact.
+    run_pool(e, [&](int t) {
+      FramelessWorker& w = e.workers[size_t(t)];
+      const unsigned __int128 share = (unsigned __int128)per_tick * w.pixels->size();
+      const uint64_t target = uint64_t((share * (k + 1)) / e.pixel_count);
+      const uint64_t count = target - w.budget_done;
+      w.budget_done = target;
+      const double dt = count ? tick_seconds / double(count) : 0.0;
+      frameless_run(e, w, count, t_begin + dt, dt);
+    });
+  } else {
+    // Conventional: the frame advances by per_tick pixels, split evenly over the threads; a pixel's
+    // value does not depend on which thread renders it, so the result is deterministic.
+    uint64_t left = per_tick, done = 0;
+    while (left > 0) {
+      const size_t take = size_t(std::min<uint64_t>(left, e.pixel_count - e.frame_pos));
+      const size_t base = e.frame_pos;
+      const double dt = tick_seconds / double(per_tick);
+      const double tb = t_begin + dt * double(done + 1);
+      run_pool(e, [&](int t) {
+        const size_t b = base + take * size_t(t) / size_t(e.threads);
+        const size_t en = base + take * size_t(t + 1) / size_t(e.threads);
+        conventional_range(e, t, b, en, tb + dt * double(b - base), dt);
+      });
+      e.frame_pos += take;
+      left -= take;
+      done += take;
+      if (e.frame_pos == e.pixel_count) {
+        publish_frame(e);
+        begin_frame(e);
+      }
+    }
+  }
+  e.virtual_time.store(t_begin + tick_seconds, std::memory_order_relaxed);
+  e.ticks.store(k + 1, std::memory_order_relaxed);
+}
+
+uint64_t Engine::ticks() const { return impl_->ticks.load(std::memory_order_relaxed); }
+double Engine::now() const { return impl_->now(); }
+
+CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpdate>& out) {
+  Impl& e = *impl_;
+  out.clear();
+  std::lock_guard<std::mutex> lock(e.layout_mutex);
+  CollectResult r;
+  r.mode = e.cfg.mode;
+  r.width = e.cfg.width;
+  r.height = e.cfg.height;
+  r.newest_epoch = e.channel.epoch();
+  r.time = e.now();
+  const int threads = e.counters ? e.threads : 0;
+  for (int t = 0; t < threads; ++t) {
+    r.samples += e.counters[t].samples.load(std::memory_order_relaxed);
+    r.dropped += e.counters[t].dropped.load(std::memory_order_relaxed);
+  }
+  const uint64_t generation = e.generation.load(std::memory_order_acquire);
+  const bool resync = cursor.generation != generation;
+  if (resync) {
+    r.reset = cursor.width != r.width || cursor.height != r.height;
+    if (r.reset || cursor.last_seq.size() != e.pixel_count) cursor.last_seq.assign(e.pixel_count, 0);
+    cursor.generation = generation;
+    cursor.width = r.width;
+    cursor.height = r.height;
+    cursor.frame = 0;
+    cursor.thread_updates.assign(size_t(threads), 0);
+  }
+
+  PixelSnapshot s;
+  auto take = [&](uint32_t idx) {
+    if (!frameless::read_pixel(e.pixels[idx], s)) {
+      ++r.contended;
+      return;
+    }
+    if (s.epoch == 0 || s.seq == cursor.last_seq[idx]) return;
+    cursor.last_seq[idx] = s.seq;
+    out.push_back({idx, s});
+  };
+
+  if (e.cfg.mode == RenderMode::frameless) {
+    if (resync) {
+      // Counters first: anything published during the scan is collected (again) next time.
+      for (int t = 0; t < threads; ++t)
+        cursor.thread_updates[size_t(t)] = e.counters[t].updates.load(std::memory_order_acquire);
+      for (uint32_t i = 0; i < e.pixel_count; ++i) take(i);
+      return r;
+    }
+    for (int t = 0; t < threads; ++t) {
+      const std::vector<uint32_t>& list = e.partition.pixels[size_t(t)];
+      const uint64_t n = list.size();
+      const uint64_t now = e.counters[t].updates.load(std::memory_order_acquire);
+      uint64_t& seen = cursor.thread_updates[size_t(t)];
+      if (n == 0 || now == seen) continue;
+      // Visit u touched list[u mod n]: the counter alone tells which pixels changed.
+      const uint64_t from = now - seen >= n ? now - n : seen;
+      for (uint64_t u = from; u < now; ++u) take(list[size_t(u % n)]);
+      seen = now;
+    }
+    return r;
+  }
+
+  // Conventional: only completed frames, each once.
+  FrameBuffers& f = e.frames;
+  if (f.middle.load(std::memory_order_acquire) & FrameBuffers::kNew) {
+    const uint32_t old = f.middle.exchange(f.front, std::memory_order_acq_rel);
+    f.front = old & 3u;
+    const std::vector<PixelSnapshot>& frame = f.buf[f.front];
+    for (uint32_t i = 0; i < frame.size(); ++i)
+      if (frame[i].epoch != 0) out.push_back({i, frame[i]});
+    cursor.frame = f.completed.load(std::memory_order_acquire);
+    r.new_frame = true;
+  }
+  return r;
+}
+
+void Engine::note_display_tick(uint32_t index) {
+  impl_->display_tick.store(index, std::memory_order_relaxed);
+}
+
+EngineStats Engine::stats() const {
+  const Impl& e = *impl_;
+  EngineStats s;
+  s.seconds = e.now() - e.start_time.load(std::memory_order_relaxed);
+  s.camera_epoch = e.channel.epoch();
+  s.frames_completed = e.frames.completed.load(std::memory_order_relaxed);
+  if (!e.counters) return s;
+  for (int t = 0; t < e.threads; ++t) {
+    ThreadStats ts;
+    ts.pixels = e.cfg.mode == RenderMode::frameless ? e.partition.pixels[size_t(t)].size() : 0;
+    ts.samples = e.counters[t].samples.load(std::memory_order_relaxed);
+    ts.updates = e.counters[t].updates.load(std::memory_order_relaxed);
+    ts.dropped = e.counters[t].dropped.load(std::memory_order_relaxed);
+    ts.samples_per_s = s.seconds > 0 ? double(ts.samples) / s.seconds : 0.0;
+    s.samples += ts.samples;
+    s.updates += ts.updates;
+    s.dropped += ts.dropped;
+    s.threads.push_back(ts);
+  }
+  s.samples_per_s = s.seconds > 0 ? double(s.samples) / s.seconds : 0.0;
+  return s;
+}
+
+std::optional<std::string> Engine::error() const {
+  std::lock_guard<std::mutex> lock(impl_->error_mutex);
+  return impl_->error;
+}
+
+const UpdateLog& Engine::update_log(int thread) const {
+  static const UpdateLog empty;
+  if (thread < 0 || size_t(thread) >= impl_->logs.size()) return empty;
+  return impl_->logs[size_t(thread)];
+}
+
+bool Engine::read_pixel(int x, int y, PixelSnapshot& out) const {
+  const Impl& e = *impl_;
+  if (x < 0 || y < 0 || x >= e.cfg.width || y >= e.cfg.height) return false;
+  return frameless::read_pixel(e.pixels[size_t(y) * size_t(e.cfg.width) + size_t(x)], out);
+}
+
+}  // namespace frameless

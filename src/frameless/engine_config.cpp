@@ -1,0 +1,26 @@
+// Names and range checks of the engine settings.
+#include "frameless/engine_config.h"
+
+namespace frameless {
+
+const char* to_string(RenderMode mode) {
+  return mode == RenderMode::frameless ? "frameless" : "conventional";
+}
+
+std::optional<RenderMode> parse_render_mode(const std::string& text) {
+  if (text == "frameless") return RenderMode::frameless;
+  if (text == "conventional") return RenderMode::conventional;
+  return std::nullopt;
+}
+
+std::string validate(const EngineConfig& c) {
+  if (c.width < 1 || c.width > 16384) return "width: must be 1..16384";
+  if (c.height < 1 || c.height > 16384) return "height: must be 1..16384";
+  if (c.threads < 0 || c.threads > 1024) return "threads: must be 0 (all cores) .. 1024";
+  if (c.chunk_size < 1) return "chunk_size: must be at least 1";
+  if (!(c.update_percent >= 0.01 && c.update_percent <= 100.0))
+    return "update_percent: must be 0.01..100";
+  return "";
+}
+
+}  // namespace frameless

@@ -1,0 +1,128 @@
+// Internal state of Engine shared by engine.cpp (control, exchange) and render_loop.cpp (render
+// threads); not a public interface. Ownership per field is noted.
+#pragma once
+#include <atomic>
+#include <barrier>
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "frameless/camera_channel.h"
+#include "frameless/conventional_jobs.h"
+#include "frameless/engine.h"
+
+namespace frameless {
+
+// Per-thread counters, written by the owner only (relaxed), read by anyone.
+struct alignas(64) ThreadCounters {
+  std::atomic<uint64_t> updates{0};  // pixel visits since start (drives the display's cursor)
+  std::atomic<uint64_t> samples{0};
+  std::atomic<uint64_t> dropped{0};
+};
+
+// A frameless render thread's private walking state (owned by that thread).
+struct FramelessWorker {
+  int index = 0;
+  const std::vector<uint32_t>* pixels = nullptr;  // its pixels in visiting order
+  size_t pos = 0;              // next position in *pixels
+  uint64_t updates = 0;        // pixel visits since start
+  uint64_t interval = 1;       // visits between camera checks
+  uint64_t countdown = 1;      // visits until the next camera check (staggered at start)
+  uint64_t budget_done = 0;    // deterministic: cumulative budget consumed
+  uint32_t epoch = 0;          // camera epoch in use
+  CameraBasis basis;           // camera in use
+  UpdateLog* log = nullptr;    // null when logging is off
+};
+
+// Conventional frames: render side writes `back`, publishes by exchanging it with `middle`;
+// the display takes `middle` into `front`. kNew marks an unconsumed frame.
+struct FrameBuffers {
+  static constexpr uint32_t kNew = 4;
+  std::vector<PixelSnapshot> buf[3];
+  std::atomic<uint32_t> middle{1};
+  uint32_t back = 0;   // render side (barrier completion / deterministic coordinator)
+  uint32_t front = 2;  // display side
+  std::atomic<uint64_t> completed{0};
+};
+
+struct Engine::Impl {
+  struct FrameDone {
+    Impl* e;
+    void operator()() noexcept;
+  };
+
+  Impl(const Scene& s, const EngineConfig& c, const Camera& camera)
+      : scene(s), cfg(c), channel(camera) {}
+
+  const Scene& scene;
+  EngineConfig cfg;          // control thread; read-only for render threads while they run
+  CameraChannel channel;
+  uint64_t sample_seed_base = 0;  // scene seed mixed with cfg.seed
+
+  // Layout (rebuilt by the control thread while render threads are stopped).
+  Partition partition;
+  std::unique_ptr<PixelState[]> pixels;
+  size_t pixel_count = 0;
+  int threads = 1;
+  std::unique_ptr<ThreadCounters[]> counters;
+  std::vector<UpdateLog> logs;
+  std::vector<FramelessWorker> workers;
+  std::vector<TileJob> jobs;
+  std::vector<uint32_t> job_pixels;
+  std::vector<size_t> job_first_pixel;  // job j renders job_pixels[first[j], first[j + 1])
+  FrameBuffers frames;
+
+  // Conventional frame state: written in the barrier completion, read after the barrier.
+  std::atomic<uint32_t> next_job{0};
+  uint32_t frame_epoch = 0;
+  CameraBasis frame_basis;
+  bool frame_stop = false;
+  size_t frame_pos = 0;  // deterministic: pixels of the current frame already rendered
+  std::unique_ptr<std::barrier<FrameDone>> barrier;
+
+  // Control.
+  std::mutex layout_mutex;  // held by control while rebuilding, by the display while collecting
+  std::atomic<uint64_t> generation{0};
+  std::vector<std::thread> thread_handles;
+  bool running = false;
+  std::atomic<bool> stop_flag{false};
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  std::atomic<double> start_time{0.0};
+  std::atomic<double> virtual_time{0.0};
+  std::atomic<uint64_t> ticks{0};
+  std::atomic<uint32_t> display_tick{0};
+  mutable std::mutex error_mutex;
+  std::optional<std::string> error;
+
+  // Deterministic worker pool.
+  std::mutex pool_mutex;
+  std::condition_variable pool_cv, pool_done_cv;
+  uint64_t pool_generation = 0;
+  int pool_pending = 0;
+  bool pool_quit = false;
+  std::function<void(int)> pool_task;
+
+  double now() const {
+    if (cfg.deterministic) return virtual_time.load(std::memory_order_relaxed);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  void record_error(const std::string& message);
+};
+
+// render_loop.cpp
+void frameless_thread_main(Engine::Impl& e, int t);
+void conventional_thread_main(Engine::Impl& e, int t);
+void pool_thread_main(Engine::Impl& e, int t);
+// Deterministic: `count` visits of worker w, visit i stamped with time t_begin + i * dt.
+void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt);
+// Renders job_pixels[begin, end) of the current frame on render thread t (conventional mode).
+void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double t_begin, double dt);
+// Reads the newest camera into the frame state (conventional mode, between frames).
+void begin_frame(Engine::Impl& e);
+// Publishes the back frame buffer (conventional mode, after a complete frame).
+void publish_frame(Engine::Impl& e);
+
+}  // namespace frameless

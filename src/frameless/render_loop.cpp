@@ -1,0 +1,257 @@
+// Render threads: the per-pixel update (frameless antialiasing, Welford statistics, seqlocked
+// publish), the frameless walking loop and the conventional job loop. The per-sample path holds
+// no lock, allocates nothing and makes no system call.
+#include <cmath>
+
+#include "core/rng.h"
+#include "frameless/engine_impl.h"
+#include "frameless/running_stats.h"
+#include "frameless/tile_render.h"
+
+namespace frameless {
+namespace {
+
+constexpr uint64_t kSeedSalt = 0x6672616d656c6573ull;  // separates engine samples from one-shot renders
+
+// Frameless antialiasing (Scher Zagier): four strata of the pixel (2x2); each update samples a
+// diagonal pair, alternating, so a pixel is fully covered after two updates.
+constexpr int kStrata[2][2] = {{0, 3}, {1, 2}};
+
+template <bool kCustom>
+inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px, float py,
+                          uint64_t seed) {
+  if constexpr (kCustom)
+    return e.cfg.shader.fn(e.cfg.shader.context, b, px, py, seed);
+  else
+    return trace_sample(e.scene, b, px, py, seed);
+}
+
+// One pixel update: 1 or 2 samples, Welford per sample, publish under the pixel's sequence lock.
+// `frame` (conventional) also receives the published snapshot.
+template <bool kCustom>
+inline void update_pixel(Engine::Impl& e, uint32_t idx, const CameraBasis& basis, uint32_t epoch,
+                         float time, ThreadCounters& ctr, PixelSnapshot* frame) {
+  PixelState& p = e.pixels[idx];
+  const uint32_t w = uint32_t(e.partition.width);
+  const uint32_t x = idx % w, y = idx / w;
+  const uint32_t passes = p.passes.load(std::memory_order_relaxed);
+  const int spu = e.cfg.jitter ? 2 : 1;
+  Vec3 colors[2];
+  int valid = 0;
+  for (int j = 0; j < spu; ++j) {
+    const uint64_t seed = sample_seed(x, y, passes * uint32_t(spu) + uint32_t(j), e.sample_seed_base);
+    float px = float(x) + 0.5f, py = float(y) + 0.5f;
+    if (e.cfg.jitter) {
+      Rng rng(seed);
+      const int s = kStrata[passes & 1u][j];
+      px = float(x) + 0.5f * (float(s & 1) + rng.next_float());
+      py = float(y) + 0.5f * (float(s >> 1) + rng.next_float());
+    }
+    const SampleResult r = shade<kCustom>(e, basis, px, py, mix64(seed ^ kSeedSalt));
+    if (r.valid && is_finite(r.color))
+      colors[valid++] = r.color;
+  }
+  ctr.samples.store(ctr.samples.load(std::memory_order_relaxed) + uint64_t(spu),
+                    std::memory_order_relaxed);
+  p.passes.store(passes + 1, std::memory_order_relaxed);
+  if (valid < spu)
+    ctr.dropped.store(ctr.dropped.load(std::memory_order_relaxed) + uint64_t(spu - valid),
+                      std::memory_order_relaxed);
+  if (valid == 0) return;
+
+  // Running statistics restart at the first sample with a new camera.
+  const bool same_epoch = p.epoch.load(std::memory_order_relaxed) == epoch;
+  uint32_t count = same_epoch ? p.count.load(std::memory_order_relaxed) : 0u;
+  double mean[3], m2 = 0.0;
+  for (int c = 0; c < 3; ++c) mean[c] = same_epoch ? p.mean[c].load(std::memory_order_relaxed) : 0.0;
+  if (same_epoch && e.cfg.track_variance) m2 = p.m2.load(std::memory_order_relaxed);
+  Vec3 sum(0.0f);
+  for (int k = 0; k < valid; ++k) {
+    const Vec3& s = colors[k];
+    sum += s;
+    if (count != 0xffffffffu) ++count;  // saturates: the mean then becomes a slow moving average
+    if (e.cfg.track_variance) {
+      const double lum_mean = 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2];
+      const double lum = 0.2126 * s.x + 0.7152 * s.y + 0.0722 * s.z;
+      for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
+      const double lum_new = 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2];
+      m2 += (lum - lum_mean) * (lum - lum_new);  // Welford: delta * (x - new mean)
+    } else {
+      for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
+    }
+  }
+  const Vec3 sample = sum / float(valid);
+
+  // Publish: odd sequence while writing; the display retries on a torn read.
+  const uint32_t seq = p.seq.load(std::memory_order_relaxed);
+  p.seq.store(seq + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  p.count.store(count, std::memory_order_relaxed);
+  p.epoch.store(epoch, std::memory_order_relaxed);
+  for (int c = 0; c < 3; ++c) {
+    p.mean[c].store(mean[c], std::memory_order_relaxed);
+    p.sample[c].store(sample[c], std::memory_order_relaxed);
+  }
+  p.m2.store(m2, std::memory_order_relaxed);
+  p.time.store(time, std::memory_order_relaxed);
+  p.seq.store(seq + 2, std::memory_order_release);
+
+  if (frame) {
+    frame->sample = sample;
+    frame->mean = Vec3(float(mean[0]), float(mean[1]), float(mean[2]));
+    frame->variance = count > 1 ? float(m2 / double(count - 1)) : 0.0f;
+    frame->count = count;
+    frame->epoch = epoch;
+    frame->time = time;
+    frame->seq = seq + 2;
+  }
+}
+
+// Picks up the newest camera if it changed.
+void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
+  if (e.channel.epoch() == epoch) return;
+  uint32_t ep = 0;
+  const Camera cam = e.channel.read(&ep);
+  basis = make_camera_basis(cam, e.partition.width, e.partition.height);
+  epoch = ep;
+}
+
+template <bool kCustom>
+void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
+  const std::vector<uint32_t>& list = *w.pixels;
+  const size_t n = list.size();
+  if (n == 0) return;
+  ThreadCounters& ctr = e.counters[w.index];
+  for (uint64_t i = 0; i < count; ++i) {
+    if (--w.countdown == 0) {
+      w.countdown = w.interval;
+      refresh_camera(e, w.epoch, w.basis);
+    }
+    const uint32_t idx = list[w.pos];
+    if (++w.pos == n) w.pos = 0;
+    const float time = float(t_begin + dt * double(i));
+    update_pixel<kCustom>(e, idx, w.basis, w.epoch, time, ctr, nullptr);
+    if (w.log) {
+      if (w.log->records.size() < w.log->records.capacity())
+        w.log->records.push_back({idx, w.epoch, e.display_tick.load(std::memory_order_relaxed), time});
+      else
+        ++w.log->overflow;
+    }
+    // The display derives which pixels changed from this counter: publish after the pixel.
+    ctr.updates.store(++w.updates, std::memory_order_release);
+  }
+}
+
+}  // namespace
+
+void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
+  if (e.cfg.shader.fn)
+    run_visits<true>(e, w, count, t_begin, dt);
+  else
+    run_visits<false>(e, w, count, t_begin, dt);
+}
+
+void frameless_thread_main(Engine::Impl& e, int t) {
+  enable_flush_to_zero();
+  try {
+    FramelessWorker& w = e.workers[size_t(t)];
+    // Batches of visits share one clock reading; the stop flag is checked between batches.
+    constexpr uint64_t kBatch = 16;
+    while (!e.stop_flag.load(std::memory_order_relaxed)) frameless_run(e, w, kBatch, e.now(), 0.0);
+  } catch (const std::exception& ex) {
+    e.record_error(std::string("render thread ") + std::to_string(t) + ": " + ex.what());
+  } catch (...) {
+    e.record_error("render thread " + std::to_string(t) + ": unknown exception");
+  }
+}
+
+void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double t_begin, double dt) {
+  PixelSnapshot* frame = e.frames.buf[e.frames.back].data();
+  ThreadCounters& ctr = e.counters[t];
+  for (size_t i = begin; i < end; ++i) {
+    const uint32_t idx = e.job_pixels[i];
+    const float time = float(t_begin + dt * double(i - begin));
+    if (e.cfg.shader.fn)
+      update_pixel<true>(e, idx, e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+    else
+      update_pixel<false>(e, idx, e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+  }
+  ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
+                    std::memory_order_release);
+}
+
+void begin_frame(Engine::Impl& e) {
+  uint32_t ep = 0;
+  const Camera cam = e.channel.read(&ep);
+  e.frame_basis = make_camera_basis(cam, e.partition.width, e.partition.height);
+  e.frame_epoch = ep;
+  e.frame_pos = 0;
+}
+
+void publish_frame(Engine::Impl& e) {
+  const uint32_t old = e.frames.middle.exchange(e.frames.back | FrameBuffers::kNew,
+                                                std::memory_order_acq_rel);
+  e.frames.back = old & 3u;
+  e.frames.completed.fetch_add(1, std::memory_order_release);
+}
+
+void Engine::Impl::FrameDone::operator()() noexcept {
+  // Runs on one thread once all have arrived: publish the finished frame, start the next.
+  e->frame_stop = e->stop_flag.load(std::memory_order_relaxed);
+  if (!e->frame_stop) {
+    publish_frame(*e);
+    begin_frame(*e);
+  }
+  e->next_job.store(0, std::memory_order_relaxed);
+}
+
+void conventional_thread_main(Engine::Impl& e, int t) {
+  enable_flush_to_zero();
+  try {
+    for (;;) {
+      for (;;) {
+        const uint32_t j = e.next_job.fetch_add(1, std::memory_order_relaxed);
+        if (j >= e.jobs.size()) break;
+        if (e.stop_flag.load(std::memory_order_relaxed)) continue;  // drain quickly on stop
+        // Job j covers a contiguous range of job_pixels (tiles are laid out in job order).
+        const size_t px_begin = e.job_first_pixel[j];
+        const size_t px_end = e.job_first_pixel[j + 1];
+        conventional_range(e, t, px_begin, px_end, e.now(), 0.0);
+      }
+      e.barrier->arrive_and_wait();
+      if (e.frame_stop) break;
+    }
+  } catch (const std::exception& ex) {
+    e.record_error(std::string("render thread ") + std::to_string(t) + ": " + ex.what());
+    e.barrier->arrive_and_drop();
+  } catch (...) {
+    e.record_error("render thread " + std::to_string(t) + ": unknown exception");
+    e.barrier->arrive_and_drop();
+  }
+}
+
+void pool_thread_main(Engine::Impl& e, int t) {
+  enable_flush_to_zero();
+  uint64_t seen = 0;
+  for (;;) {
+    std::function<void(int)>* task = nullptr;
+    {
+      std::unique_lock<std::mutex> lock(e.pool_mutex);
+      e.pool_cv.wait(lock, [&] { return e.pool_quit || e.pool_generation != seen; });
+      if (e.pool_quit) return;
+      seen = e.pool_generation;
+      task = &e.pool_task;
+    }
+    try {
+      (*task)(t);
+    } catch (const std::exception& ex) {
+      e.record_error(std::string("render thread ") + std::to_string(t) + ": " + ex.what());
+    } catch (...) {
+      e.record_error("render thread " + std::to_string(t) + ": unknown exception");
+    }
+    std::lock_guard<std::mutex> lock(e.pool_mutex);
+    if (--e.pool_pending == 0) e.pool_done_cv.notify_all();
+  }
+}
+
+}  // namespace frameless
