@@ -14,8 +14,8 @@ struct TileJob {
   uint32_t tiles = 0;       // number of consecutive tiles (>= 1)
 };
 
-// Jobs covering every tile once, in order, sizes non-increasing from about tiles / (2 threads)
-// down to one tile.
+// Jobs covering every tile once, in order, sizes non-increasing from about tiles / (8 threads)
+// down to one tile (the first job holds about 1/8 of a thread's share).
 std::vector<TileJob> make_tile_jobs(int width, int height, int threads);
 
 // The pixels of the jobs in job order (each pixel once): the order a frame is rendered in.
