@@ -35,7 +35,7 @@ inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float expon
 // Hard shadows: one any-hit ray to the light's centre, ending just short of the light.
 template <class F>
 inline void for_each_visible_light(const Scene& scene, const SurfacePoint& sp, F&& f) {
-  const Vec3 origin = offset_ray_origin(sp.p, sp.ng);
+  const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
   for (const Light& light : scene.lights) {
     const Vec3 to_light = light.position - origin;
     const float dist = glm::length(to_light);
@@ -55,9 +55,14 @@ inline void for_each_visible_light(const Scene& scene, const SurfacePoint& sp, F
   }
 }
 
+Vec3 trace_from(const Scene& scene, const Ray& ray, const Vec3& start, int depth,
+                const Vec3& weight, const Material* medium, Hit* first_hit,
+                SurfacePoint* first_point);
+
 // Traces a secondary ray when the depth limit and the pruning threshold allow it.
-inline Vec3 trace_child(const Scene& scene, const Vec3& origin, const Vec3& dir, int depth,
-                        const Vec3& child_weight, const Material* medium) {
+// `start` is the surface point before the origin offset (for the distance travelled inside).
+inline Vec3 trace_child(const Scene& scene, const Vec3& start, const Vec3& origin, const Vec3& dir,
+                        int depth, const Vec3& child_weight, const Material* medium) {
   if (depth >= scene.settings.max_depth) return Vec3(0.0f);
   // Zero-weight branches are always pruned, so a threshold of 0 cannot explode the tree.
   const float w = max_component(child_weight);
@@ -66,7 +71,7 @@ inline Vec3 trace_child(const Scene& scene, const Vec3& origin, const Vec3& dir,
   r.org = origin;
   r.dir = glm::normalize(dir);
   r.tmin = 0.0f;
-  return trace_radiance(scene, r, depth + 1, child_weight, medium);
+  return trace_from(scene, r, start, depth + 1, child_weight, medium, nullptr, nullptr);
 }
 
 // Mirror direction of d about n; falls back to the geometric normal if the shading normal
@@ -81,9 +86,8 @@ Vec3 shade_diffuse(const Scene& scene, const Material& m, const SurfacePoint& sp
   // Equation 1 with k_h = k_s = k_t = 0: k_d (l_a + s l_e n.l).
   Vec3 light_sum = ambient_light(scene.ambient, sp.ns);
   if (scene.features.has_lights)
-    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3&, float nl) {
-      light_sum += le * nl;
-    });
+    for_each_visible_light(scene, sp,
+                           [&](const Vec3& le, const Vec3&, float nl) { light_sum += le * nl; });
   return m.kd * light_sum;
 }
 
@@ -96,14 +100,13 @@ Vec3 shade_metal(const Scene& scene, const Ray& ray, const Material& m, const Su
     for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float) {
       out += le * m.ks * phong_lobe(sp.ns, e, l, m.phong_exponent);
     });
-  out += m.ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
-                            weight * m.ks, medium);
+  out += m.ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                            mirror(ray.dir, sp), depth, weight * m.ks, medium);
   return out;
 }
 
-Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m,
-                      const SurfacePoint& sp, int depth, const Vec3& weight,
-                      const Material* medium) {
+Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
+                      int depth, const Vec3& weight, const Material* medium) {
   // Equation 1 with k_d = 0, k_s from Schlick, k_t = 1 - k_s, plus a Phong term.
   const Vec3 e = -ray.dir;
   const float cos_i = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
@@ -116,22 +119,22 @@ Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m,
       out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
     });
   // Reflection stays on the incident side, in the incident medium.
-  out += f.ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
-                            weight * f.ks, medium);
+  out += f.ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                            mirror(ray.dir, sp), depth, weight * f.ks, medium);
   if (!f.total_internal_reflection) {
     const Vec3 t = eta * ray.dir + (eta * cos_i - f.cos_t) * sp.ns;
     // Leaving returns to air: nested dielectrics are not tracked (one medium at a time).
     const Material* next = sp.front_face ? &m : nullptr;
-    out += f.kt * trace_child(scene, offset_ray_origin(sp.p, -sp.ng), t, depth, weight * f.kt,
-                              next);
+    out += f.kt * trace_child(scene, sp.p, offset_ray_origin(sp.p, -sp.ng, sp.scale), t, depth,
+                              weight * f.kt, next);
   }
   return out;
 }
 
-Vec3 shade_polished(const Scene& scene, const Ray& ray, const Material& m,
-                    const SurfacePoint& sp, int depth, const Vec3& weight,
-                    const Material* medium) {
-  // Equation 2 (coupled model): k_d l_a (1 - k_s(e,n)) + s k_d l_e (1 - (1 - n.e)^5)(1 - (1 - n.l)^5)
+Vec3 shade_polished(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
+                    int depth, const Vec3& weight, const Material* medium) {
+  // Equation 2 (coupled model): k_d l_a (1 - k_s(e,n)) + s k_d l_e (1 - (1 - n.e)^5)(1 - (1 -
+  // n.l)^5)
   //                            + s k_h l_e (h.n)^N + k_s(e,n) L_s.
   const Vec3 e = -ray.dir;
   const float en = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
@@ -145,8 +148,8 @@ Vec3 shade_polished(const Scene& scene, const Ray& ray, const Material& m,
       if (highlight) out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
     });
   }
-  out += ks * trace_child(scene, offset_ray_origin(sp.p, sp.ng), mirror(ray.dir, sp), depth,
-                          weight * ks, medium);
+  out += ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                          mirror(ray.dir, sp), depth, weight * ks, medium);
   return out;
 }
 
@@ -168,8 +171,9 @@ float r0_from_ior(float ior) {
 }
 
 Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Vec3& n) {
-  const float cos_theta = std::clamp(glm::dot(n, axis), -1.0f, 1.0f);
-  const float half_sin = 0.5f * std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  const float cos_theta = glm::dot(n, axis);
+  // sin from the cross product stays accurate near 0 and pi, where sqrt(1 - cos^2) does not.
+  const float half_sin = 0.5f * std::min(1.0f, glm::length(glm::cross(n, axis)));
   // Seed 3.1.1, piecewise: theta < pi/2 (cos > 0) sees mostly A, otherwise mostly B.
   if (cos_theta > 0.0f) return (1.0f - half_sin) * a + half_sin * b;
   return half_sin * a + (1.0f - half_sin) * b;
@@ -177,9 +181,12 @@ Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Ve
 
 Vec3 ambient_light(const Ambient& ambient, const Vec3& n) {
   switch (ambient.kind) {
-    case AmbientKind::kNone: return Vec3(0.0f);
-    case AmbientKind::kConstant: return ambient.constant;
-    case AmbientKind::kHemisphere: return hemisphere_ambient(ambient.a, ambient.b, ambient.axis, n);
+    case AmbientKind::kNone:
+      return Vec3(0.0f);
+    case AmbientKind::kConstant:
+      return ambient.constant;
+    case AmbientKind::kHemisphere:
+      return hemisphere_ambient(ambient.a, ambient.b, ambient.axis, n);
   }
   return Vec3(0.0f);
 }
@@ -202,8 +209,10 @@ Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, i
                    const Vec3& weight, const Material* medium) {
   const Material& m = scene.materials[sp.material];
   switch (m.cls) {
-    case MaterialClass::kDiffuse: return shade_diffuse(scene, m, sp);
-    case MaterialClass::kMetal: return shade_metal(scene, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kDiffuse:
+      return shade_diffuse(scene, m, sp);
+    case MaterialClass::kMetal:
+      return shade_metal(scene, ray, m, sp, depth, weight, medium);
     case MaterialClass::kDielectric:
       return shade_dielectric(scene, ray, m, sp, depth, weight, medium);
     case MaterialClass::kPolished:
@@ -212,29 +221,43 @@ Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, i
   return Vec3(0.0f);
 }
 
-Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
-                    const Material* medium, Hit* first_hit, SurfacePoint* first_point) {
+namespace {
+
+Vec3 trace_from(const Scene& scene, const Ray& ray, const Vec3& start, int depth,
+                const Vec3& weight, const Material* medium, Hit* first_hit,
+                SurfacePoint* first_point) {
   Hit hit;
   const bool found = scene.accel.intersect(ray, hit);
   if (first_hit) *first_hit = hit;
-  // Light travelling inside a dielectric decays as exp(-kappa t) over the distance t inside.
-  Vec3 attenuation(1.0f);
-  const bool absorbing = medium && max_component(medium->extinction) > 0.0f;
-  if (absorbing) {
-    for (int c = 0; c < 3; ++c) {
-      const float kappa = medium->extinction[c];
-      attenuation[c] = kappa > 0.0f ? (found ? std::exp(-kappa * hit.t) : 0.0f) : 1.0f;
-    }
+  if (!found) {
+    // An escaping ray inside an absorbing medium travels forever: exp(-kappa inf) = 0.
+    Vec3 bg = scene.settings.background;
+    if (medium)
+      for (int c = 0; c < 3; ++c)
+        if (medium->extinction[c] > 0.0f) bg[c] = 0.0f;
+    return bg;
   }
-  if (!found) return attenuation * scene.settings.background;
   const SurfacePoint sp = surface_point(scene.geometry, ray, hit);
   if (first_point) *first_point = sp;
-  if (!absorbing) return shade_surface(scene, ray, sp, depth, weight, medium);
+  if (!medium || max_component(medium->extinction) <= 0.0f)
+    return shade_surface(scene, ray, sp, depth, weight, medium);
+  // Light travelling inside a dielectric decays as exp(-kappa t), t the distance between the
+  // two surface points (not hit.t, which starts at the offset origin).
+  const float t = glm::length(sp.p - start);
+  const Vec3 attenuation(std::exp(-medium->extinction.x * t), std::exp(-medium->extinction.y * t),
+                         std::exp(-medium->extinction.z * t));
   const Vec3 w = weight * attenuation;
   // Prune a branch the medium has already dimmed below the threshold.
   const float wmax = max_component(w);
   if (wmax <= 0.0f || wmax < scene.settings.min_contribution) return Vec3(0.0f);
   return attenuation * shade_surface(scene, ray, sp, depth, w, medium);
+}
+
+}  // namespace
+
+Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
+                    const Material* medium, Hit* first_hit, SurfacePoint* first_point) {
+  return trace_from(scene, ray, ray.org, depth, weight, medium, first_hit, first_point);
 }
 
 }  // namespace frameless

@@ -34,8 +34,8 @@ SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit)
     sp.ng = sp.front_face ? ng : -ng;
     if (!geom.normals.empty()) {
       const float w0 = 1.0f - hit.u - hit.v;
-      const Vec3 ns = w0 * geom.normals[tri.x] + hit.u * geom.normals[tri.y] +
-                      hit.v * geom.normals[tri.z];
+      const Vec3 ns =
+          w0 * geom.normals[tri.x] + hit.u * geom.normals[tri.y] + hit.v * geom.normals[tri.z];
       sp.ns = normalize_or(sp.front_face ? ns : -ns, sp.ng);
       // An interpolated normal may tip below the true surface; fall back to the geometric one.
       if (glm::dot(sp.ns, sp.ng) <= 0.0f) sp.ns = sp.ng;
@@ -43,6 +43,8 @@ SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit)
       sp.ns = sp.ng;
     }
     sp.material = geom.triangle_material.empty() ? 0 : geom.triangle_material[hit.prim];
+    const Vec3 mag = glm::max(glm::abs(p0), glm::max(glm::abs(p1), glm::abs(p2)));
+    sp.scale = std::fmax(mag.x, std::fmax(mag.y, mag.z));
   } else {
     const uint32_t i = hit.prim - ntri;
     const Sphere& s = geom.spheres[i];
@@ -53,30 +55,35 @@ SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit)
     sp.ng = sp.front_face ? n : -n;
     sp.ns = sp.ng;
     sp.material = geom.sphere_material.empty() ? 0 : geom.sphere_material[i];
+    const Vec3 mag = glm::abs(s.center);
+    sp.scale = std::fmax(mag.x, std::fmax(mag.y, mag.z)) + std::fabs(s.radius);
   }
   return sp;
 }
 
-// Waechter & Binder's integer-ULP offset, with two documented changes:
+// Waechter & Binder's integer-ULP offset, with documented changes:
 //  * kIntScale is 16, not 256, with a minimum of one ULP on every non-zero normal component:
 //    256 ULPs (sized for GPU instance transforms) move a point two units at 1e5, which visibly
-//    shrinks contact shadows; 1..16 ULPs still exceed the half-ULP reconstruction error above plus
-//    the rounding of the sphere and triangle tests (checked by tests at 1e-4, 1 and 1e6 scale).
+//    shrinks contact shadows (scale_test fails with it); 1..16 ULPs still exceed the half-ULP
+//    reconstruction error above plus the rounding of the sphere and watertight triangle tests.
 //  * Their absolute "near the origin" threshold (1/32) and offset (1/65536) assume a scene of
-//    unit size; here both are relative to the largest coordinate of p, so the rule is scale-free.
-Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
+//    unit size. Here the reference magnitude m is the larger of |p|'s largest coordinate and the
+//    primitive's own coordinate scale (an intersection test rounds relative to the vertices, not
+//    to p); coordinates within a factor 2 of m get integer ULPs, smaller ones (whose ULPs are too
+//    fine to matter) a float offset of about 16 ULPs of m. So the rule is free of any unit.
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& n, float scale) {
   constexpr float kIntScale = 16.0f;
-  constexpr float kNearZero = 1.0f / 32.0f;          // relative to the largest |p_i|
-  constexpr float kFloatScale = 16.0f * 0x1.0p-23f;  // about 16 ULPs of the largest |p_i|
-  constexpr float kTinyScale = 0x1.0p-100f;          // p at the exact origin: any scale is a guess
-  const float m = std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z)));
-  const float small_offset = kFloatScale * std::fmax(m, kTinyScale);
+  constexpr float kFloatScale = 16.0f * 0x1.0p-23f;  // about 16 ULPs of m
+  constexpr float kTinyScale = 0x1.0p-100f;          // p and scale both zero: any unit is a guess
+  const float pm = std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z)));
+  const float m = std::fmax(std::fmax(pm, std::fabs(scale)), kTinyScale);
+  const float small_offset = kFloatScale * m;
   Vec3 out = p;
   for (int i = 0; i < 3; ++i) {
     const float ni = n[i];
     if (!(ni != 0.0f)) continue;  // zero or NaN: no offset along this axis
     const float pi = p[i];
-    if (std::fabs(pi) < kNearZero * m || pi == 0.0f) {
+    if (std::fabs(pi) < 0.5f * m) {
       out[i] = pi + ni * small_offset;
     } else {
       const int32_t ulps = int32_t(std::ceil(kIntScale * std::fabs(ni)));

@@ -11,12 +11,16 @@ struct SurfacePoint {
   Vec3 ns{0.0f};  // unit shading normal, same hemisphere as ng
   bool front_face = true;  // the ray hit the outward side
   uint16_t material = 0;
+  // Largest coordinate magnitude of the primitive (vertices, or sphere centre + radius): the
+  // rounding of any intersection test with it scales with this, so origin offsets must too.
+  float scale = 0.0f;
 };
 
 SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit);
 
 // Offsets p along n by an amount proportional to p's floating-point magnitude so that a ray
 // leaving p in n's hemisphere cannot re-hit the surface, at any scene scale (Waechter & Binder 2019).
-Vec3 offset_ray_origin(const Vec3& p, const Vec3& n);
+// scale: SurfacePoint::scale of the primitive p lies on (0 when unknown: p's own magnitude).
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& n, float scale = 0.0f);
 
 }  // namespace frameless
