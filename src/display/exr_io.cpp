@@ -39,10 +39,20 @@ Result<bool> write_exr(const std::string& path, int width, int height,
                                                 m[15]));
     }
     Imf::FrameBuffer fb;
+    // OutputFile does not convert pixel types: half channels get a half copy of their plane.
+    std::vector<std::vector<half>> half_planes;
+    half_planes.reserve(channels.size());
     for (const ExrChannel& c : channels) {
       header.channels().insert(c.name, Imf::Channel(c.half ? Imf::HALF : Imf::FLOAT));
-      fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
-                                   sizeof(float) * c.stride * size_t(width)));
+      if (c.half) {
+        auto& plane = half_planes.emplace_back(size_t(width) * size_t(height));
+        for (size_t i = 0; i < plane.size(); ++i) plane[i] = half(c.data[i * c.stride]);
+        fb.insert(c.name, Imf::Slice(Imf::HALF, (char*)plane.data(), sizeof(half),
+                                     sizeof(half) * size_t(width)));
+      } else {
+        fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
+                                     sizeof(float) * c.stride * size_t(width)));
+      }
     }
     {
       Imf::OutputFile file(tmp.c_str(), header, 1);
