@@ -1,0 +1,64 @@
+// Headless capture of what a frameless display shows over time: engine + display thread + the
+// window's GL draw code in an OSMesa context, each refresh read back and written as OpenEXR with a
+// JSON manifest. Runs on the calling (capture) thread, which owns the GL context.
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/scene.h"
+#include "display/blend.h"
+#include "display/camera_path.h"
+#include "frameless/engine_config.h"
+
+namespace frameless {
+
+// Float layers a capture can add next to the half RGB image.
+inline constexpr const char* kCaptureLayers[] = {"age", "count", "variance", "epoch"};
+
+struct CaptureOptions {
+  std::string out_dir;             // frames, manifest and quick looks go here (created if missing)
+  double duration = 2.0;           // seconds of (wall or virtual) time to capture
+  double refresh_hz = 30.0;        // display refresh rate = capture frame rate
+  EngineConfig engine;             // size, threads, mode, seed, deterministic, ...
+  BlendConfig blend;               // decay alpha etc.
+  Camera camera;                   // start camera (used when `path` is empty)
+  CameraPath path;                 // camera over time; empty: still camera
+  std::vector<std::string> layers; // subset of kCaptureLayers
+  bool contact_sheet = true;       // contact_sheet.png after the frames
+  bool mp4 = true;                 // sequence.mp4 when ffmpeg is installed
+  bool progress = false;           // one updating line on stderr
+  nlohmann::json settings = nlohmann::json::object();  // extra settings for the manifest (scene, CLI)
+};
+
+// Test seam: called with each output file's final path before it is written; a returned message
+// makes that write fail as if the disk were full.
+struct CaptureHooks {
+  std::function<std::optional<std::string>(const std::string& path)> before_write;
+};
+
+struct CaptureResult {
+  int frames = 0;                  // frames written and listed in the manifest
+  std::string manifest_path;
+  std::string contact_sheet_path;  // empty when not written
+  std::string mp4_path;            // empty when not written
+  std::string note;                // e.g. why no MP4
+  std::string gl_renderer;
+};
+
+// Checks (creating the folder if needed) that `dir` can be written, before any rendering starts.
+Result<bool> prepare_output_dir(const std::string& dir);
+
+// "frame_00042.exr"
+std::string capture_frame_name(int index);
+
+// Runs the capture. On a write failure mid-way the error says so, and every frame already written
+// stays valid and is exactly what manifest.json lists.
+Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& options,
+                                  const CaptureHooks& hooks = {});
+
+}  // namespace frameless

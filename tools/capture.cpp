@@ -1,0 +1,163 @@
+// `frameless capture`: headless (OSMesa) capture of what a frameless display shows over time,
+// as an OpenEXR sequence + manifest.json + contact sheet (+ MP4 with ffmpeg). Main thread.
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include "core/scene_io.h"
+#include "display/capture.h"
+#include "tools/command_registry.h"
+#include "tools/common_options.h"
+
+namespace frameless::cli {
+namespace {
+
+struct CaptureArgs {
+  std::string scene = "default";
+  std::string out = "captures/capture";
+  std::string size = "320x240";
+  double duration = 2.0;
+  double refresh = 30.0;
+  bool deterministic = false;
+  std::string layers;
+  std::string path_file;
+  double orbit = 0.0, dolly = 1.0, cut_at = -1.0, cut_orbit = 90.0;
+  int threads = 0;
+  int chunk = 64;
+  double update_percent = 1.0;
+  uint64_t seed = 1;
+  std::string mode = "frameless";
+  float alpha = 0.5f;
+  bool time_decay = false;
+  bool no_converge = false;
+  uint64_t samples_per_tick = 0;
+  bool no_jitter = false;
+  bool no_sheet = false, no_mp4 = false;
+  CameraFlags camera;
+};
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+int run(const CaptureArgs& a) {
+  CaptureOptions o;
+  o.out_dir = a.out;
+  o.duration = a.duration;
+  o.refresh_hz = a.refresh;
+  o.layers = split(a.layers == "all" ? "age,count,variance,epoch" : a.layers);
+  o.progress = show_progress();
+  o.mp4 = !a.no_mp4;
+  o.contact_sheet = !a.no_sheet;
+  std::string error;
+  EngineConfig& e = o.engine;
+  if (!parse_size(a.size, e.width, e.height, error)) return report_error(error);
+  e.threads = a.threads > 0 ? a.threads : hardware_threads();
+  e.chunk_size = a.chunk;
+  e.update_percent = a.update_percent;
+  e.seed = a.seed;
+  e.deterministic = a.deterministic;
+  e.samples_per_tick = a.samples_per_tick;
+  e.jitter = !a.no_jitter;
+  const auto mode = parse_render_mode(a.mode);
+  if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
+  e.mode = *mode;
+  o.blend.alpha = a.alpha;
+  o.blend.time_decay = a.time_decay;
+  o.blend.converge = !a.no_converge;
+  if (!(a.alpha > 0.0f && a.alpha <= 1.0f)) return report_error("--alpha: must be in (0, 1]");
+  if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
+  // The output folder is checked before the scene is even loaded: a bad --out fails at once.
+  if (auto d = prepare_output_dir(o.out_dir); !d.ok()) return report_error(d.error().message);
+
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  if (!scene) return 2;
+  o.camera = scene->camera;
+  if (!a.camera.apply(o.camera, error)) return report_error(error);
+  if (!a.path_file.empty()) {
+    auto p = load_camera_path(a.path_file);
+    if (!p.ok()) return report_error(p.error().message);
+    o.path = p.value();
+  } else if (a.orbit != 0.0 || a.dolly != 1.0 || a.cut_at >= 0.0) {
+    if (!(a.dolly > 0.0)) return report_error("--dolly: factor must be > 0");
+    PathShorthand sh;
+    sh.orbit_deg = a.orbit;
+    sh.dolly_factor = a.dolly;
+    sh.cut_at = a.cut_at;
+    sh.cut_orbit_deg = a.cut_orbit;
+    o.path = make_shorthand_path(o.camera, sh, a.duration);
+  }
+  o.settings["scene"] = {{"spec", a.scene}};
+  o.settings["camera_path"] = a.path_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.path_file);
+  o.settings["orbit_deg"] = a.orbit;
+  o.settings["dolly"] = a.dolly;
+  o.settings["cut_at"] = a.cut_at;
+  o.settings["cut_orbit_deg"] = a.cut_orbit;
+  o.settings["start_camera"] = {{"eye", {o.camera.eye.x, o.camera.eye.y, o.camera.eye.z}},
+                                {"look", {o.camera.look.x, o.camera.look.y, o.camera.look.z}},
+                                {"up", {o.camera.up.x, o.camera.up.y, o.camera.up.z}},
+                                {"fov", o.camera.fov_deg}};
+
+  auto r = run_capture(*scene, o);
+  if (!r.ok()) return report_error(r.error().message);
+  std::printf("captured %d frames of %s at %g Hz (%s clock) into %s\n", r->frames, a.scene.c_str(),
+              a.refresh, a.deterministic ? "virtual" : "wall", a.out.c_str());
+  std::printf("  manifest: %s\n", r->manifest_path.c_str());
+  if (!r->contact_sheet_path.empty())
+    std::printf("  contact sheet: %s (open it in any image viewer)\n", r->contact_sheet_path.c_str());
+  if (!r->mp4_path.empty()) std::printf("  video: %s\n", r->mp4_path.c_str());
+  if (!r->note.empty()) std::printf("  %s\n", r->note.c_str());
+  return 0;
+}
+
+const bool registered = register_command(
+    "", "capture",
+    "Headless capture (OSMesa) of the frameless display over time: EXR sequence + manifest",
+    [](CLI::App& app) {
+      auto a = std::make_shared<CaptureArgs>();
+      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
+          ->capture_default_str();
+      app.add_option("--out", a->out, "output folder (frames, manifest.json, contact_sheet.png)")
+          ->capture_default_str();
+      app.add_option("--size", a->size, "image size WxH")->capture_default_str();
+      app.add_option("--duration", a->duration, "seconds to capture")->capture_default_str();
+      app.add_option("--refresh", a->refresh, "display refresh rate = frame rate, 1..240 Hz")
+          ->capture_default_str();
+      app.add_flag("--deterministic", a->deterministic,
+                   "virtual clock: same seed, same files (bit for bit)");
+      app.add_option("--layers", a->layers,
+                     "extra float layers: any of age,count,variance,epoch (or 'all')");
+      app.add_option("--path", a->path_file, "camera keyframes (JSON; a `view --record` file works)");
+      app.add_option("--orbit", a->orbit, "orbit the look-at point by DEG over the capture");
+      app.add_option("--dolly", a->dolly, "multiply the eye distance by F over the capture");
+      app.add_option("--cut-at", a->cut_at, "sudden camera cut at T seconds");
+      app.add_option("--cut-orbit", a->cut_orbit, "the cut jumps by this many degrees of orbit")
+          ->capture_default_str();
+      app.add_option("--threads", a->threads, "render threads (default: all cores)");
+      app.add_option("--chunk", a->chunk, "pixels per Hilbert chunk")->capture_default_str();
+      app.add_option("--update-percent", a->update_percent,
+                     "a thread picks up a new camera after this % of its pixels (0.01..100)")
+          ->capture_default_str();
+      app.add_option("--seed", a->seed, "seed of samples and shuffles")->capture_default_str();
+      app.add_option("--mode", a->mode, "frameless or conventional")->capture_default_str();
+      app.add_option("--alpha", a->alpha, "decay: displayed <- displayed (1-a) + sample a")
+          ->capture_default_str();
+      app.add_flag("--time-decay", a->time_decay, "alpha from the time since a pixel's last blend");
+      app.add_flag("--no-converge", a->no_converge, "always blend (never show the running mean)");
+      app.add_option("--samples-per-tick", a->samples_per_tick,
+                     "deterministic: samples per refresh over all threads (0: engine default)");
+      app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
+      app.add_flag("--no-contact-sheet", a->no_sheet, "skip contact_sheet.png");
+      app.add_flag("--no-mp4", a->no_mp4, "skip sequence.mp4 even when ffmpeg is installed");
+      a->camera.add_to(app);
+      app.footer(std::string("Scenes: ") + builtin_scene_help());
+      return [a] { return run(*a); };
+    });
+
+}  // namespace
+}  // namespace frameless::cli
