@@ -234,6 +234,7 @@ glm::mat4 parse_transform(const json& j, const std::string& f) {
   if (j.contains("rotate")) {
     const json& r = j["rotate"];
     const json list = r.is_array() ? r : json::array({r});
+    glm::mat4 rot(1.0f);
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string rf = r.is_array() ? f + ".rotate[" + std::to_string(i) + "]" : f + ".rotate";
       require_object(list[i], rf);
@@ -241,8 +242,10 @@ glm::mat4 parse_transform(const json& j, const std::string& f) {
       if (!list[i].contains("axis")) fail(rf + ".axis", "missing");
       if (!list[i].contains("degrees")) fail(rf + ".degrees", "missing");
       const Vec3 axis = get_unit(list[i]["axis"], rf + ".axis");
-      m = glm::rotate(m, glm::radians(float(get_number(list[i]["degrees"], rf + ".degrees"))), axis);
+      // Left-multiplied so that the rotations apply to points in the order written.
+      rot = glm::rotate(glm::mat4(1.0f), glm::radians(float(get_number(list[i]["degrees"], rf + ".degrees"))), axis) * rot;
     }
+    m = m * rot;
   }
   if (j.contains("scale")) {
     const json& s = j["scale"];

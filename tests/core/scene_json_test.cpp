@@ -118,3 +118,24 @@ TEST(SceneJson, NoCameraFramesTheGeometry) {
 
 }  // namespace
 }  // namespace frameless
+
+namespace frameless {
+namespace {
+
+// Rotations listed in an array apply to points in the order written.
+TEST(SceneJson, RotationArrayAppliesInOrder) {
+  auto s = parse_scene_json(R"({"materials":{"m":{"class":"diffuse"}},
+      "objects":[{"type":"triangles","material":"m",
+        "vertices":[[1,0,0],[0,1,0],[0,0,1]], "indices":[[0,1,2]],
+        "transform":{"rotate":[{"axis":[0,0,1],"degrees":90},{"axis":[1,0,0],"degrees":90}]}}]})",
+                            "t.json", ".");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  // (1,0,0) -> about z: (0,1,0) -> about x: (0,0,1)
+  const Vec3 p = (*s)->geometry.positions[0];
+  EXPECT_NEAR(p.x, 0.0f, 1e-6f);
+  EXPECT_NEAR(p.y, 0.0f, 1e-6f);
+  EXPECT_NEAR(p.z, 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace frameless
