@@ -1,0 +1,186 @@
+// Display thread: deterministic reproduction, no NaN/Inf displayed, coverage, conventional frames
+// shown only when complete, triple-buffer hand-off, and a short wall-clock run at 240 Hz.
+#include "display/display_thread.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include "../engine/test_shaders.h"
+
+namespace frameless {
+namespace {
+
+using namespace frameless::testing;
+
+bool same_bits(const DisplayImage& a, const DisplayImage& b) {
+  auto eq = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
+  };
+  return a.width == b.width && a.height == b.height && eq(a.rgb, b.rgb) &&
+         eq(a.last_update, b.last_update) && eq(a.sample_count, b.sample_count) &&
+         eq(a.variance, b.variance) && eq(a.epoch, b.epoch);
+}
+
+EngineConfig deterministic_config(RenderMode mode, uint64_t seed, SampleResult (*fn)(const void*, const CameraBasis&, float, float, uint64_t) = noisy_shader) {
+  EngineConfig c = test_config(48, 36, 3, fn);
+  c.deterministic = true;
+  c.mode = mode;
+  c.seed = seed;
+  c.samples_per_tick = 900;
+  return c;
+}
+
+std::vector<DisplayImage> run_deterministic(RenderMode mode, uint64_t seed, int ticks) {
+  Engine e(Scene{}, deterministic_config(mode, seed), camera_at(0));
+  DisplayThread d(e, {});
+  std::vector<DisplayImage> frames;
+  for (int k = 0; k < ticks; ++k) {
+    if (k == 8) e.publish_camera(camera_at(0.3f));
+    d.step();
+    frames.push_back(d.acquire_latest());
+  }
+  return frames;
+}
+
+TEST(DisplayThread, DeterministicRunsGiveIdenticalImages) {
+  for (RenderMode mode : {RenderMode::frameless, RenderMode::conventional}) {
+    const auto a = run_deterministic(mode, 3, 20);
+    const auto b = run_deterministic(mode, 3, 20);
+    const auto c = run_deterministic(mode, 4, 20);
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_TRUE(same_bits(a[k], b[k])) << to_string(mode) << " tick " << k;
+      EXPECT_EQ(a[k].info.virtual_time, b[k].info.virtual_time);
+    }
+    EXPECT_FALSE(same_bits(a.back(), c.back())) << "the comparison must be able to fail";
+  }
+}
+
+TEST(DisplayThread, NonFiniteSamplesNeverDisplayed) {
+  for (RenderMode mode : {RenderMode::frameless, RenderMode::conventional}) {
+    Engine e(Scene{}, deterministic_config(mode, 1, nan_shader), camera_at(0));
+    DisplayThread d(e, {});
+    FrameInfo info;
+    for (int k = 0; k < 15; ++k) info = d.step();
+    const DisplayImage& img = d.acquire_latest();
+    ASSERT_EQ(img.rgb.size(), size_t(3 * 48 * 36));
+    for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v));
+    EXPECT_GT(info.dropped_samples, 0u);
+  }
+}
+
+TEST(DisplayThread, CoverageRisesToOneAfterACameraChange) {
+  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  DisplayThread d(e, {});
+  for (int k = 0; k < 10; ++k) d.step();
+  EXPECT_DOUBLE_EQ(d.step().coverage, 1.0);
+  e.publish_camera(camera_at(0.5f));
+  double last = 0.0;
+  int ticks = 0;
+  for (; ticks < 100 && last < 1.0; ++ticks) {
+    const FrameInfo info = d.step();
+    EXPECT_GE(info.coverage, last);
+    last = info.coverage;
+  }
+  EXPECT_DOUBLE_EQ(last, 1.0);
+  // 900 samples per tick = 450 updates over 1728 pixels: 4 ticks a sweep, plus the pickup delay.
+  EXPECT_LE(ticks, 6);
+}
+
+TEST(DisplayThread, ConventionalShowsOnlyCompletedFrames) {
+  EngineConfig c = deterministic_config(RenderMode::conventional, 1);
+  c.samples_per_tick = 1000;  // 500 pixel updates per tick: a frame takes several ticks
+  Engine e(Scene{}, c, camera_at(0));
+  DisplayThread d(e, {});
+  int frames = 0;
+  for (int k = 0; k < 20; ++k) {
+    if (k == 5) e.publish_camera(camera_at(0.5f));
+    const FrameInfo info = d.step();
+    const DisplayImage& img = d.acquire_latest();
+    EXPECT_TRUE(info.pixels_updated == 0 || info.pixels_updated == img.pixels());
+    if (info.pixels_updated) ++frames;
+    // Every displayed pixel comes from the same frame: one epoch everywhere.
+    for (uint32_t ep : img.epoch) EXPECT_EQ(ep, img.epoch[0]);
+  }
+  EXPECT_GE(frames, 4);
+}
+
+TEST(DisplayThread, StillImageShowsTheRunningMean) {
+  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  DisplayThread d(e, {});
+  for (int k = 0; k < 40; ++k) d.step();
+  const DisplayImage& img = d.acquire_latest();
+  PixelSnapshot p;
+  ASSERT_TRUE(e.read_pixel(10, 20, p));
+  const size_t i = 20 * 48 + 10;
+  EXPECT_EQ(img.rgb[3 * i], p.mean.x);
+  EXPECT_EQ(img.sample_count[i], p.count);
+  EXPECT_GT(img.variance[i], 0.0f);
+  EXPECT_LT(img.age(i), 1.0f);
+}
+
+TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
+  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  DisplayThread d(e, {});
+  DisplayImage seen;
+  d.set_on_tick([&](const DisplayImage& img) { seen = img; });
+  for (int k = 0; k < 12; ++k) {
+    d.step();
+    if (k % 3 == 0) continue;  // the consumer skips some ticks
+    bool fresh = false;
+    const DisplayImage& img = d.acquire_latest(&fresh);
+    EXPECT_TRUE(fresh);
+    EXPECT_TRUE(same_bits(img, seen)) << "tick " << k;
+    EXPECT_EQ(img.info.index, uint64_t(k));
+  }
+  bool fresh = true;
+  d.acquire_latest(&fresh);
+  EXPECT_FALSE(fresh);
+}
+
+TEST(DisplayThread, WallClockAt240HzWithCameraStorm) {
+  EngineConfig c = test_config(64, 48, 4, eye_shader);
+  Engine e(Scene{}, c, camera_at(1.0f));
+  DisplayConfig dc;
+  dc.refresh_hz = 240;
+  DisplayThread d(e, dc);
+  std::atomic<bool> done{false};
+  std::atomic<uint64_t> frames{0}, bad{0};
+  std::thread consumer([&] {
+    while (!done.load()) {
+      bool fresh = false;
+      const DisplayImage& img = d.acquire_latest(&fresh);
+      if (fresh) {
+        ++frames;
+        for (float v : img.rgb) bad += !std::isfinite(v);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  e.start();
+  d.start();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1000);
+  for (float x = 2.0f; std::chrono::steady_clock::now() < end; x += 1.0f) {
+    e.publish_camera(camera_at(x));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  d.stop();
+  done = true;
+  consumer.join();
+  e.stop();
+  const DisplayStats s = d.stats();
+  EXPECT_GT(s.ticks, 20u);  // generous: the machine may be loaded
+  EXPECT_GT(s.mean_interval, 0.0);
+  EXPECT_GT(s.cpu_seconds, 0.0);
+  EXPECT_GT(frames.load(), 0u);
+  EXPECT_EQ(bad.load(), 0u);
+  EXPECT_FALSE(d.error());
+  EXPECT_FALSE(e.error());
+}
+
+}  // namespace
+}  // namespace frameless
