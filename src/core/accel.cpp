@@ -1,10 +1,50 @@
-// TEMPORARY brute-force placeholder, to be replaced by the BVH.
+// The 8-wide BVH: build (bvh_build.cpp) plus ordered closest-hit and early-exit any-hit traversal
+// with one AVX2 box test per node.
 #include "core/accel.h"
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+#include "core/bvh_build.h"
+#include "core/intersect_sphere.h"
+#include "core/intersect_triangle.h"
+
 namespace frameless {
+namespace {
+
+// Levels are bounded by the builder (SAH to depth 32, then medians), each pushes at most 7.
+constexpr int kStackSize = 512;
+// Ize 2013, "Robust BVH ray traversal": widening tfar by 1 + 2 gamma(3) makes the slab test
+// conservative under rounding, so a watertight triangle test is never culled by its box. We fold
+// the factor into 1 / dir for the exit planes, which costs one more rounding: gamma(4).
+constexpr float kRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
+
+struct StackEntry {
+  uint32_t ref;
+  uint32_t info;
+  float t;
+};
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<PrimRef>& refs, uint32_t base, uint32_t count) {
+  if (v.size() != count) return;  // absent optional array (or malformed): leave alone
+  std::vector<T> out;
+  out.reserve(count);
+  for (const PrimRef& p : refs)
+    if (p.id >= base && p.id - base < count) out.push_back(v[p.id - base]);
+  v.swap(out);
+}
+
+}  // namespace
 
 struct Accel::Impl {
   const Geometry* geom = nullptr;
+  std::vector<Bvh8Node> nodes;
   AccelStats stats;
 };
 
@@ -13,59 +53,236 @@ Accel::~Accel() = default;
 Accel::Accel(Accel&&) noexcept = default;
 Accel& Accel::operator=(Accel&&) noexcept = default;
 
-void Accel::build(Geometry& geom, const AccelConfig&) { impl_->geom = &geom; }
+void Accel::build(Geometry& geom, const AccelConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  Impl& im = *impl_;
+  im.geom = &geom;
+  const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres();
+  std::vector<PrimRef> refs(size_t(nt) + ns);
+  for (uint32_t i = 0; i < nt; ++i) {
+    const UVec3 t = geom.triangles[i];
+    PrimRef& r = refs[i];
+    r.id = i;
+    if (t.x < geom.positions.size() && t.y < geom.positions.size() && t.z < geom.positions.size()) {
+      const Vec3 &a = geom.positions[t.x], &b = geom.positions[t.y], &c = geom.positions[t.z];
+      r.lo = glm::min(a, glm::min(b, c));
+      r.hi = glm::max(a, glm::max(b, c));
+    }
+    // Non-finite or out-of-range triangles keep a point box at the origin; their test misses.
+    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
+  }
+  for (uint32_t i = 0; i < ns; ++i) {
+    const Sphere& s = geom.spheres[i];
+    PrimRef& r = refs[nt + i];
+    r.id = nt + i;
+    r.lo = s.center - Vec3(std::abs(s.radius));
+    r.hi = s.center + Vec3(std::abs(s.radius));
+    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
+  }
+  Bvh8 bvh = build_bvh8(refs, nt, config);
+  if (bvh.depth * (kBvhWidth - 1) + 1 > kStackSize) {
+    std::fprintf(stderr, "frameless: accel: BVH depth %d exceeds the traversal stack\n", bvh.depth);
+    std::abort();
+  }
+  // Store primitives in leaf order so a leaf is a contiguous run (no index indirection).
+  permute(geom.triangles, refs, 0, nt);
+  permute(geom.triangle_material, refs, 0, nt);
+  permute(geom.spheres, refs, nt, ns);
+  permute(geom.sphere_material, refs, nt, ns);
+  im.nodes = std::move(bvh.nodes);
 
-static bool hit_triangle(const Geometry& g, uint32_t i, const Ray& r, float tmax, float& t, float& u,
-                         float& v) {
-  const UVec3 tri = g.triangles[i];
-  const Vec3 p0 = g.positions[tri.x], e1 = g.positions[tri.y] - p0, e2 = g.positions[tri.z] - p0;
-  const Vec3 pv = glm::cross(r.dir, e2);
-  const float det = glm::dot(e1, pv);
-  if (det == 0.0f) return false;
-  const float inv = 1.0f / det;
-  const Vec3 tv = r.org - p0;
-  u = glm::dot(tv, pv) * inv;
-  if (u < 0.0f || u > 1.0f) return false;
-  const Vec3 qv = glm::cross(tv, e1);
-  v = glm::dot(r.dir, qv) * inv;
-  if (v < 0.0f || u + v > 1.0f) return false;
-  t = glm::dot(e2, qv) * inv;
-  return t >= r.tmin && t <= tmax;
+  AccelStats& s = im.stats;
+  s = {};
+  s.nodes = im.nodes.size();
+  s.leaves = bvh.leaves;
+  s.depth = bvh.depth;
+  s.bytes = im.nodes.size() * sizeof(Bvh8Node);
+  s.geometry_bytes = geom.positions.size() * sizeof(Vec3) + geom.triangles.size() * sizeof(UVec3) +
+                     geom.triangle_material.size() * sizeof(uint16_t) +
+                     geom.spheres.size() * sizeof(Sphere) +
+                     geom.sphere_material.size() * sizeof(uint16_t);
+  s.build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-static bool hit_sphere(const Sphere& s, const Ray& r, float tmax, float& t) {
-  const Vec3 oc = r.org - s.center;
-  const float b = glm::dot(oc, r.dir), c = glm::dot(oc, oc) - s.radius * s.radius;
-  const float disc = b * b - c;
-  if (disc < 0.0f) return false;
-  const float sq = std::sqrt(disc);
-  t = -b - sq;
-  if (t < r.tmin) t = -b + sq;
-  return t >= r.tmin && t <= tmax;
+namespace {
+
+// Per-ray constants of the slab test.
+struct BoxRay {
+  Vec3 org;
+  Vec3 inv;      // 1 / dir for the entry planes (infinite for zero components)
+  Vec3 inv_far;  // 1 / dir widened for the exit planes (see kRobustFar)
+  int near[3];   // bounds row of the entry plane per axis (lo when the direction is positive)
+};
+
+inline BoxRay make_box_ray(const Ray& ray) {
+  BoxRay b;
+  b.org = ray.org;
+  for (int a = 0; a < 3; ++a) {
+    b.inv[a] = 1.0f / ray.dir[a];
+    b.inv_far[a] = b.inv[a] * kRobustFar;
+    b.near[a] = 2 * a + (std::signbit(ray.dir[a]) ? 1 : 0);
+  }
+  return b;
 }
+
+// Tests the ray against the eight child boxes; returns the mask of boxes entered within
+// [tmin, tmax] and their entry distances. A ray parallel to a slab and lying in its boundary
+// plane gives 0 * inf = NaN for that slab; min/max take the accumulator (second operand of
+// maxps/minps) then, so the slab is ignored and the boundary counts as inside.
+inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmin, float tmax,
+                                   float* dist) {
+#if defined(__AVX2__)
+  const __m256 ox = _mm256_set1_ps(r.org.x), oy = _mm256_set1_ps(r.org.y),
+               oz = _mm256_set1_ps(r.org.z);
+  const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[0]]), ox),
+                                   _mm256_set1_ps(r.inv.x));
+  const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[1]]), oy),
+                                   _mm256_set1_ps(r.inv.y));
+  const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[2]]), oz),
+                                   _mm256_set1_ps(r.inv.z));
+  const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[0] ^ 1]), ox),
+                                   _mm256_set1_ps(r.inv_far.x));
+  const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[1] ^ 1]), oy),
+                                   _mm256_set1_ps(r.inv_far.y));
+  const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[2] ^ 1]), oz),
+                                   _mm256_set1_ps(r.inv_far.z));
+  const __m256 tn =
+      _mm256_max_ps(tnx, _mm256_max_ps(tny, _mm256_max_ps(tnz, _mm256_set1_ps(tmin))));
+  const __m256 tf =
+      _mm256_min_ps(tfx, _mm256_min_ps(tfy, _mm256_min_ps(tfz, _mm256_set1_ps(tmax))));
+  _mm256_store_ps(dist, tn);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+#else
+  uint32_t mask = 0;
+  for (int i = 0; i < kBvhWidth; ++i) {
+    float tn = tmin, tf = tmax;
+    for (int a = 0; a < 3; ++a) {
+      tn = std::max(tn, (n.bounds[r.near[a]][i] - r.org[a]) * r.inv[a]);  // NaN keeps tn
+      tf = std::min(tf, (n.bounds[r.near[a] ^ 1][i] - r.org[a]) * r.inv_far[a]);
+    }
+    dist[i] = tn;
+    mask |= uint32_t(tn <= tf) << i;
+  }
+  return mask;
+#endif
+}
+
+template <bool kAnyHit>
+bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
+              Hit& hit) {
+  if (node_array.empty()) return false;
+  const Bvh8Node* nodes = node_array.data();
+  const Vec3* pos = g.positions.data();
+  const UVec3* tris = g.triangles.data();
+  const Sphere* spheres = g.spheres.data();
+  const uint32_t num_tris = g.num_triangles();
+  const BoxRay br = make_box_ray(ray);
+  const TriangleRay tr = make_triangle_ray(ray);
+  const float tmin = ray.tmin;
+  float tmax = ray.tmax;
+  // Box entry distances carry rounding error too: compare them against a widened tmax, or a box
+  // whose primitive ties with the current hit within an ulp would be culled.
+  float tmax_box = tmax * kRobustFar;
+  bool found = false;
+
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  uint32_t ref = 0, info = 0;  // start at the root node
+  for (;;) {
+    if (info == 0) {
+      const Bvh8Node& node = nodes[ref];
+      alignas(32) float dist[kBvhWidth];
+      uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
+      if (mask != 0) {
+        uint32_t i = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        if (mask == 0) {  // one child entered: descend without touching the stack
+          ref = node.child[i];
+          info = node.info[i];
+          continue;
+        }
+        if constexpr (kAnyHit) {
+          // Order is irrelevant for any-hit: push the rest, descend into the first.
+          do {
+            const uint32_t j = uint32_t(__builtin_ctz(mask));
+            stack[sp++] = {node.child[j], node.info[j], dist[j]};
+            mask &= mask - 1;
+          } while (mask);
+          ref = node.child[i];
+          info = node.info[i];
+          continue;
+        } else {
+          // Two or more: sort near to far, push far ones, descend into the nearest.
+          StackEntry e[kBvhWidth];
+          int n = 0;
+          e[n++] = {node.child[i], node.info[i], dist[i]};
+          do {
+            const uint32_t j = uint32_t(__builtin_ctz(mask));
+            StackEntry x{node.child[j], node.info[j], dist[j]};
+            int k = n++;
+            while (k > 0 && e[k - 1].t > x.t) e[k] = e[k - 1], --k;
+            e[k] = x;
+            mask &= mask - 1;
+          } while (mask);
+          for (int k = n - 1; k > 0; --k) stack[sp++] = e[k];
+          ref = e[0].ref;
+          info = e[0].info;
+          continue;
+        }
+      }
+    } else if (info & kSphereLeafBit) {
+      const uint32_t count = info & 0x7f;
+      for (uint32_t k = 0; k < count; ++k) {
+        float t;
+        if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax, t)) {
+          if constexpr (kAnyHit) return true;
+          tmax = t;
+          tmax_box = t * kRobustFar;
+          hit.t = t;
+          hit.u = hit.v = 0.0f;
+          hit.prim = num_tris + ref + k;
+          found = true;
+        }
+      }
+    } else {
+      for (uint32_t k = 0; k < info; ++k) {
+        const UVec3 tri = tris[ref + k];
+        float t, u, v;
+        if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax, t, u, v)) {
+          if constexpr (kAnyHit) return true;
+          tmax = t;
+          tmax_box = t * kRobustFar;
+          hit.t = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = ref + k;
+          found = true;
+        }
+      }
+    }
+    // Pop the nearest pending entry that may still hold a closer hit.
+    for (;;) {
+      if (sp == 0) return found;
+      const StackEntry& e = stack[--sp];
+      if (e.t <= tmax_box) {
+        ref = e.ref;
+        info = e.info;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
-  const Geometry& g = *impl_->geom;
-  float tmax = ray.tmax;
-  bool found = false;
-  for (uint32_t i = 0; i < g.num_triangles(); ++i) {
-    float t, u, v;
-    if (hit_triangle(g, i, ray, tmax, t, u, v)) {
-      tmax = t, hit.t = t, hit.u = u, hit.v = v, hit.prim = i, found = true;
-    }
-  }
-  for (uint32_t i = 0; i < g.num_spheres(); ++i) {
-    float t;
-    if (hit_sphere(g.spheres[i], ray, tmax, t)) {
-      tmax = t, hit.t = t, hit.prim = g.num_triangles() + i, found = true;
-    }
-  }
-  return found;
+  return impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit);
 }
 
 bool Accel::occluded(const Ray& ray) const {
-  Hit h;
-  return intersect(ray, h);
+  Hit unused;
+  return impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused);
 }
 
 const AccelStats& Accel::stats() const { return impl_->stats; }
