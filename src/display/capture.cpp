@@ -43,7 +43,7 @@ struct Writer {
   Manifest manifest;
   std::string manifest_path;
   std::vector<std::string> frame_paths;
-  std::vector<float> rgb, layer;
+  std::vector<float> rgb;
   std::string settings_text;
 
   Result<bool> check_hook(const std::string& path) {
@@ -66,22 +66,6 @@ struct Writer {
     const std::string path = join(opt.out_dir, name);
     presenter.upload(img, ViewMode::shaded);
     if (auto r = presenter.render_linear(rgb); !r.ok()) return r;
-    const size_t n = img.pixels();
-    std::vector<ExrChannel> channels = {{"R", true, rgb.data() + 0, 3},
-                                        {"G", true, rgb.data() + 1, 3},
-                                        {"B", true, rgb.data() + 2, 3}};
-    layer.assign(n * opt.layers.size(), 0.0f);
-    for (size_t l = 0; l < opt.layers.size(); ++l) {
-      float* dst = layer.data() + l * n;
-      const std::string& name_l = opt.layers[l];
-      for (size_t i = 0; i < n; ++i) {
-        if (name_l == "age") dst[i] = img.age(i);
-        else if (name_l == "count") dst[i] = float(img.sample_count[i]);
-        else if (name_l == "variance") dst[i] = img.variance[i];
-        else if (name_l == "epoch") dst[i] = float(img.epoch[i]);
-      }
-      channels.push_back({name_l, false, dst, 1});
-    }
     ExrAttributes a;
     a.frames_per_second = opt.refresh_hz;
     if (wall_time >= 0) {
@@ -99,7 +83,7 @@ struct Writer {
     a.strings["software"] = std::string("frameless ") + FRAMELESS_VERSION;
     a.strings["settings"] = settings_text;
     if (auto h = check_hook(path); !h.ok()) return h;
-    if (auto w = write_exr(path, img.width, img.height, channels, a); !w.ok()) return w;
+    if (auto w = write_display_exr(path, img, rgb.data(), opt.layers, a); !w.ok()) return w;
     ManifestFrame f;
     f.index = index;
     f.file = name;
@@ -124,6 +108,28 @@ struct Writer {
 };
 
 }  // namespace
+
+Result<bool> write_display_exr(const std::string& path, const DisplayImage& img, const float* rgb,
+                               const std::vector<std::string>& layers, const ExrAttributes& attributes) {
+  if (!rgb) rgb = img.rgb.data();
+  const size_t n = img.pixels();
+  std::vector<ExrChannel> channels = {
+      {"R", true, rgb + 0, 3}, {"G", true, rgb + 1, 3}, {"B", true, rgb + 2, 3}};
+  std::vector<float> planes(n * layers.size(), 0.0f);
+  for (size_t l = 0; l < layers.size(); ++l) {
+    float* dst = planes.data() + l * n;
+    const std::string& name = layers[l];
+    for (size_t i = 0; i < n; ++i) {
+      if (name == "age") dst[i] = img.age(i);
+      else if (name == "count") dst[i] = float(img.sample_count[i]);
+      else if (name == "variance") dst[i] = img.variance[i];
+      else if (name == "epoch") dst[i] = float(img.epoch[i]);
+      else return Error{path + ": unknown layer '" + name + "'"};
+    }
+    channels.push_back({name, false, dst, 1});
+  }
+  return write_exr(path, img.width, img.height, channels, attributes);
+}
 
 std::string capture_frame_name(int index) {
   char buf[32];

@@ -13,6 +13,8 @@
 #include "core/scene.h"
 #include "display/blend.h"
 #include "display/camera_path.h"
+#include "display/display_image.h"
+#include "display/exr_io.h"
 #include "frameless/engine_config.h"
 
 namespace frameless {
@@ -52,6 +54,13 @@ struct CaptureResult {
 
 // Checks (creating the folder if needed) that `dir` can be written, before any rendering starts.
 Result<bool> prepare_output_dir(const std::string& dir);
+
+// Writes a display image as EXR: half R, G, B from `rgb` (3 floats per pixel, row 0 at the top;
+// null: the image's own rgb) plus the named float layers of kCaptureLayers (age in seconds,
+// +inf where never updated; count; variance; epoch). `attributes` are added as given.
+Result<bool> write_display_exr(const std::string& path, const DisplayImage& image, const float* rgb,
+                               const std::vector<std::string>& layers,
+                               const ExrAttributes& attributes);
 
 // "frame_00042.exr"
 std::string capture_frame_name(int index);

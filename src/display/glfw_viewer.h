@@ -1,0 +1,45 @@
+// The interactive frameless viewer: a GLFW window showing the display thread's image through
+// GlPresenter, with orbit/pan/zoom/fly controls, live settings and a text overlay. Runs on the
+// main thread, which owns the window and its GL context; the engine and display thread run beside it.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/scene.h"
+#include "display/blend.h"
+#include "frameless/engine_config.h"
+
+namespace frameless {
+
+struct ViewerOptions {
+  EngineConfig engine;            // size = initial window size; threads, mode, seed, ...
+  BlendConfig blend;
+  double refresh_hz = 60.0;       // display refresh (1..240); presentation follows it
+  Camera camera;                  // start camera (R resets to it)
+  std::string title = "frameless";
+  std::string record_path;        // write the camera poses with timestamps here at exit (JSON path)
+  std::string script_path;        // timed commands that drive the viewer (tests, demos)
+  int max_frames = 0;             // quit after presenting this many frames (0: run until closed)
+  std::string screenshot_path;    // PNG of the window when quitting through max_frames
+  std::string snapshot_dir = "captures";  // where P saves EXR snapshots
+  bool show_help = false;         // start with the help panel open
+};
+
+// Opens the window and runs until it is closed (Esc), the script quits or max_frames is reached.
+// Error (one line) when no display is available or the window cannot be created.
+Result<bool> run_viewer(const Scene& scene, const ViewerOptions& options);
+
+// Script lines: "SECONDS COMMAND [ARGS]" ('#' starts a comment), times from the window's opening:
+//   orbit DX DY | pan DX DY | zoom NOTCHES | fly RIGHT UP FORWARD SECONDS | key NAME
+//   (NAME: a key as in the help, e.g. M, V, R, P, H, LEFT_BRACKET) | resize W H |
+//   screenshot FILE.png | quit
+struct ViewerScriptLine {
+  double time = 0;
+  std::string command;
+  std::vector<std::string> args;
+};
+Result<std::vector<ViewerScriptLine>> parse_viewer_script(const std::string& text,
+                                                           const std::string& path);
+
+}  // namespace frameless
