@@ -34,6 +34,8 @@ TEST(Schlick, GivesR0AtNormalIncidenceAndOneAtGrazing) {
       prev = k;
     }
     EXPECT_NEAR(schlick(1e-4f, r0), 1.0f, 1e-3f);
+    // The fifth power in between: (1 - 0.5)^5 = 1/32.
+    EXPECT_FLOAT_EQ(schlick(0.5f, r0), r0 + (1.0f - r0) / 32.0f);
   }
   EXPECT_NEAR(r0_from_ior(1.5f), 0.04f, 1e-7f);
   EXPECT_EQ(r0_from_ior(1.0f), 0.0f);
