@@ -16,6 +16,7 @@
 #include "display/camera_path.h"
 #include "display/capture.h"
 #include "display/display_thread.h"
+#include "display/exr_io.h"
 #include "display/gl_presenter.h"
 #include "display/manifest.h"
 #include "display/png_io.h"
@@ -169,7 +170,16 @@ struct Viewer {
     draw(fw, fh);
     std::vector<unsigned char> rgb8;
     presenter->read_rgb8(fw, fh, rgb8);
-    auto r = write_png_rgb8(path, fw, fh, rgb8.data());
+    // .exr: the window's 8-bit sRGB values as floats in [0, 1] (tests read them back); else PNG.
+    Result<bool> r = true;
+    if (path.size() > 4 && path.substr(path.size() - 4) == ".exr") {
+      std::vector<float> f(rgb8.size());
+      for (size_t i = 0; i < f.size(); ++i) f[i] = float(rgb8[i]) / 255.0f;
+      r = write_exr(path, fw, fh, {{"R", false, f.data(), 3}, {"G", false, f.data() + 1, 3},
+                                   {"B", false, f.data() + 2, 3}});
+    } else {
+      r = write_png_rgb8(path, fw, fh, rgb8.data());
+    }
     std::fprintf(stderr, "frameless: %s\n", r.ok() ? ("screenshot " + path).c_str() : r.error().message.c_str());
   }
 

@@ -33,7 +33,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& options);
 // Script lines: "SECONDS COMMAND [ARGS]" ('#' starts a comment), times from the window's opening:
 //   orbit DX DY | pan DX DY | zoom NOTCHES | fly RIGHT UP FORWARD SECONDS | key NAME
 //   (NAME: a key as in the help, e.g. M, V, R, P, H, LEFT_BRACKET) | resize W H |
-//   screenshot FILE.png | quit
+//   screenshot FILE.png (or .exr: the window's sRGB values as floats) | quit
 struct ViewerScriptLine {
   double time = 0;
   std::string command;
