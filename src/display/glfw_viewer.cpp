@@ -64,7 +64,7 @@ struct Viewer {
   GlPresenter* presenter = nullptr;
   Camera camera, home;
   ViewMode view = ViewMode::shaded;
-  bool help = false, dirty = true, quit = false;
+  bool help = false, overlay_on = true, dirty = true, quit = false;
   double last_x = 0, last_y = 0;
   CameraPath recording;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
@@ -123,6 +123,7 @@ struct Viewer {
         break;
       case GLFW_KEY_V: view = next_view(view); break;
       case GLFW_KEY_H: case GLFW_KEY_F1: help = !help; break;
+      case GLFW_KEY_O: overlay_on = !overlay_on; break;
       case GLFW_KEY_P: save_snapshot(); break;
       case GLFW_KEY_LEFT_BRACKET:
         change_display([](DisplayConfig& c) { c.blend.alpha = std::max(0.01f, c.blend.alpha / 1.25f); });
@@ -221,7 +222,7 @@ struct Viewer {
     const DisplayImage& img = display->acquire_latest();
     const ViewScale s = presenter->upload(img, view);
     presenter->draw(fw, fh, true);
-    presenter->draw_text(overlay(s), fw, fh, fw >= 1600 ? 2 : 1);
+    if (overlay_on) presenter->draw_text(overlay(s), fw, fh, fw >= 1600 ? 2 : 1);
   }
 };
 

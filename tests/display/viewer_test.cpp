@@ -1,0 +1,123 @@
+// The viewer for real: under Xvfb the window opens, shows the scene, reacts to a scripted camera
+// move and quits cleanly; without a display it says so in one line; scripts are validated.
+#include "display/glfw_viewer.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "display/camera_path.h"
+#include "display/exr_io.h"
+
+namespace fs = std::filesystem;
+
+namespace frameless {
+namespace {
+
+fs::path scratch() {
+  const fs::path p = fs::temp_directory_path() / ("frameless_viewer_test_" + std::to_string(getpid()));
+  fs::create_directories(p);
+  return p;
+}
+
+struct ScratchCleanup : ::testing::Environment {
+  void TearDown() override { fs::remove_all(scratch()); }
+};
+[[maybe_unused]] ::testing::Environment* const cleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+bool have(const char* tool) {
+  return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+// Distinct colours and mean absolute difference of two window screenshots (EXR, sRGB in [0,1]).
+size_t distinct_colours(const ExrImage& img) {
+  std::set<uint32_t> colours;
+  for (size_t i = 0; i < img.channels.at("R").size(); ++i)
+    colours.insert(uint32_t(img.channels.at("R")[i] * 255) << 16 |
+                   uint32_t(img.channels.at("G")[i] * 255) << 8 | uint32_t(img.channels.at("B")[i] * 255));
+  return colours.size();
+}
+
+double mean_difference(const ExrImage& a, const ExrImage& b) {
+  double sum = 0;
+  size_t n = 0;
+  for (const char* c : {"R", "G", "B"})
+    for (size_t i = 0; i < a.channels.at(c).size(); ++i, ++n)
+      sum += std::abs(a.channels.at(c)[i] - b.channels.at(c)[i]);
+  return n ? sum / double(n) : 0.0;
+}
+
+TEST(Viewer, SmokeTestUnderXvfb) {
+  if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb): viewer smoke test skipped";
+  const fs::path dir = scratch();
+  const fs::path before = dir / "before.exr", after = dir / "after.exr", rec = dir / "rec.json";
+  // Wall-clock times: generous gaps so a loaded machine (or ASan) still gets there.
+  // Overlay off (O) so live figures in the text do not count as change: without the move the two
+  // screenshots differ by ~0.0003 on average, with it by ~0.25.
+  std::ofstream(dir / "script.txt") << "0.1 key O\n"
+                                    << "1.5 screenshot " << before.string() << "\n"
+                                    << "1.6 orbit 200 30\n"
+                                    << "1.7 zoom 2\n"
+                                    << "3.5 screenshot " << after.string() << "\n"
+                                    << "3.6 quit\n";
+  const std::string cmd = "xvfb-run -a -s '-screen 0 320x240x24' " + std::string(FRAMELESS_BINARY) +
+                          " view --size 96x64 --threads 2 --script " + (dir / "script.txt").string() +
+                          " --record " + rec.string() + " > " + (dir / "log.txt").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_EQ(status, 0) << slurp(dir / "log.txt");  // quits cleanly on the script's command
+  auto a = read_exr(before.string()), b = read_exr(after.string());
+  ASSERT_TRUE(a.ok() && b.ok()) << slurp(dir / "log.txt");
+  EXPECT_EQ(a->width, 96);
+  EXPECT_EQ(a->height, 64);
+  // The scene is shown: many colours, not one background colour (an empty window has 1-2).
+  EXPECT_GT(distinct_colours(*a), 100u);
+  // The camera move changed the picture.
+  EXPECT_GT(mean_difference(*a, *b), 0.02);
+  EXPECT_EQ(mean_difference(*a, *a), 0.0);
+  // The recording replays: keyframes from the start pose to the moved one.
+  auto path = load_camera_path(rec.string());
+  ASSERT_TRUE(path.ok()) << path.error().message;
+  ASSERT_GE(path->keyframes.size(), 3u);
+  EXPECT_NE(path->keyframes.front().camera.eye, path->keyframes.back().camera.eye);
+}
+
+TEST(Viewer, NoDisplayIsOneClearLine) {
+  const fs::path dir = scratch();
+  const std::string cmd = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(FRAMELESS_BINARY) +
+                          " view --size 32x32 > " + (dir / "out.txt").string() + " 2> " +
+                          (dir / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << "crashed";
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+  const std::string err = slurp(dir / "err.txt");
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("frameless capture"), std::string::npos) << err;
+}
+
+TEST(Viewer, ScriptsAreValidatedWithFileAndLine) {
+  auto ok = parse_viewer_script("# c\n2 quit\n0.5 orbit 10 -3\n1 key M\n", "s.txt");
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_EQ(ok->size(), 3u);
+  EXPECT_EQ((*ok)[0].command, "orbit");  // sorted by time
+  EXPECT_EQ((*ok)[2].command, "quit");
+  for (const char* bad : {"x quit", "1 dance", "1 orbit 3", "1 key NOPE", "-1 quit", "1"}) {
+    auto r = parse_viewer_script(std::string("0 quit\n") + bad + "\n", "s.txt");
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.error().message.rfind("s.txt:2: ", 0), 0u) << r.error().message;
+  }
+}
+
+}  // namespace
+}  // namespace frameless
