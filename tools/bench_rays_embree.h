@@ -1,0 +1,168 @@
+// Embree 3 reference for `frameless bench rays`: the same scene and rays through rtcIntersect1 /
+// rtcOccluded1 and 8-wide packets; built on the main thread, queried from bench threads.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+#include "core/scene.h"
+
+namespace frameless::cli {
+
+struct EmbreeHit {
+  float t = kInfinity;
+  unsigned geom = RTC_INVALID_GEOMETRY_ID;
+  unsigned prim = 0;
+  bool valid() const { return geom != RTC_INVALID_GEOMETRY_ID; }
+};
+
+class EmbreeBench {
+ public:
+  // Triangles are geometry 0, spheres geometry 1. The device gets `threads` build threads so
+  // its pool does not oversubscribe the machine.
+  EmbreeBench(const Scene& s, int threads) : num_triangles_(s.geometry.num_triangles()) {
+    const std::string config = "threads=" + std::to_string(threads);
+    device_ = rtcNewDevice(config.c_str());
+    if (!device_) {
+      std::fprintf(stderr, "frameless: embree: rtcNewDevice failed\n");
+      std::exit(1);
+    }
+    rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
+    const auto start = std::chrono::steady_clock::now();
+    scene_ = rtcNewScene(device_);
+    const Geometry& g = s.geometry;
+    RTCGeometry tri = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.positions.size()));
+    for (size_t i = 0; i < g.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) v[3 * i + k] = g.positions[i][k];
+    unsigned* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        tri, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), g.triangles.size()));
+    for (size_t i = 0; i < g.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) idx[3 * i + k] = g.triangles[i][k];
+    rtcCommitGeometry(tri);
+    rtcAttachGeometryByID(scene_, tri, 0);
+    rtcReleaseGeometry(tri);
+    if (!g.spheres.empty()) {
+      RTCGeometry sph = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      float* p = static_cast<float*>(rtcSetNewGeometryBuffer(
+          sph, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), g.spheres.size()));
+      for (size_t i = 0; i < g.spheres.size(); ++i) {
+        for (int k = 0; k < 3; ++k) p[4 * i + k] = g.spheres[i].center[k];
+        p[4 * i + 3] = g.spheres[i].radius;
+      }
+      rtcCommitGeometry(sph);
+      rtcAttachGeometryByID(scene_, sph, 1);
+      rtcReleaseGeometry(sph);
+    }
+    rtcCommitScene(scene_);
+    build_ms_ =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  ~EmbreeBench() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  EmbreeBench(const EmbreeBench&) = delete;
+  EmbreeBench& operator=(const EmbreeBench&) = delete;
+
+  void intersect1(const Ray* rays, EmbreeHit* hits, size_t n) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t i = 0; i < n; ++i) {
+      RTCRayHit rh;
+      set_ray(rh.ray, rays[i]);
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene_, &ctx, &rh);
+      hits[i] = {rh.ray.tfar, rh.hit.geomID, rh.hit.primID};
+    }
+  }
+
+  void intersect8(const Ray* rays, EmbreeHit* hits, size_t n) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // consecutive primary rays
+    for (size_t b = 0; b < n; b += 8) {
+      alignas(32) RTCRayHit8 rh;
+      alignas(32) int valid[8];
+      for (int k = 0; k < 8; ++k) {
+        const Ray& r = rays[std::min(b + k, n - 1)];
+        valid[k] = b + k < n ? -1 : 0;
+        rh.ray.org_x[k] = r.org.x, rh.ray.org_y[k] = r.org.y, rh.ray.org_z[k] = r.org.z;
+        rh.ray.dir_x[k] = r.dir.x, rh.ray.dir_y[k] = r.dir.y, rh.ray.dir_z[k] = r.dir.z;
+        rh.ray.tnear[k] = r.tmin, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = ~0u, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect8(valid, scene_, &ctx, &rh);
+      for (int k = 0; k < 8 && b + k < n; ++k)
+        hits[b + k] = {rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.primID[k]};
+    }
+  }
+
+  void occluded1(const Ray* rays, uint8_t* occ, size_t n) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t i = 0; i < n; ++i) {
+      RTCRay r;
+      set_ray(r, rays[i]);
+      rtcOccluded1(scene_, &ctx, &r);
+      occ[i] = r.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+    }
+  }
+
+  void occluded8(const Ray* rays, uint8_t* occ, size_t n) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t b = 0; b < n; b += 8) {
+      alignas(32) RTCRay8 r;
+      alignas(32) int valid[8];
+      for (int k = 0; k < 8; ++k) {
+        const Ray& s = rays[std::min(b + k, n - 1)];
+        valid[k] = b + k < n ? -1 : 0;
+        r.org_x[k] = s.org.x, r.org_y[k] = s.org.y, r.org_z[k] = s.org.z;
+        r.dir_x[k] = s.dir.x, r.dir_y[k] = s.dir.y, r.dir_z[k] = s.dir.z;
+        r.tnear[k] = s.tmin, r.tfar[k] = s.tmax, r.time[k] = 0.0f;
+        r.mask[k] = ~0u, r.id[k] = unsigned(k), r.flags[k] = 0;
+      }
+      rtcOccluded8(valid, scene_, &ctx, &r);
+      for (int k = 0; k < 8 && b + k < n; ++k) occ[b + k] = r.tfar[k] < 0.0f;
+    }
+  }
+
+  // Our primitive id convention for an Embree hit.
+  uint32_t prim_id(const EmbreeHit& h) const {
+    return h.geom == 0 ? h.prim : num_triangles_ + h.prim;
+  }
+  double build_ms() const { return build_ms_; }
+  size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }
+  std::string version() const {
+    return std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
+           std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
+           std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_PATCH));
+  }
+
+ private:
+  static bool monitor(void* self, ssize_t bytes, bool) {
+    static_cast<EmbreeBench*>(self)->bytes_ += bytes;
+    return true;
+  }
+  static void set_ray(RTCRay& out, const Ray& r) {
+    out.org_x = r.org.x, out.org_y = r.org.y, out.org_z = r.org.z;
+    out.dir_x = r.dir.x, out.dir_y = r.dir.y, out.dir_z = r.dir.z;
+    out.tnear = r.tmin, out.tfar = r.tmax, out.time = 0.0f;
+    out.mask = ~0u, out.id = 0, out.flags = 0;
+  }
+
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  uint32_t num_triangles_ = 0;
+  double build_ms_ = 0.0;
+  std::atomic<long long> bytes_{0};
+};
+
+}  // namespace frameless::cli
