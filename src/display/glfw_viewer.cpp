@@ -29,7 +29,7 @@ const std::vector<std::string> kHelp = {
     "drag: orbit  right/middle drag: pan",   "wheel: zoom  WASD, Q/E: fly  R: reset",
     "M: frameless/conventional  V: view",    "[ ]: alpha -/+   - =: refresh -/+",
     ", .: update % -/+   G T: threads -/+",  "P: save EXR snapshot  H/F1: help",
-    "Esc: quit"};
+    "O: overlay on/off  Esc: quit"};
 
 std::string glfw_error_text;
 void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unknown error"; }
