@@ -1,0 +1,202 @@
+// `frameless bench engine`: samples/s in frameless and conventional mode, display-thread CPU cost
+// at 60 Hz for 1280x720, and camera-change latency against the ideal; prints text or JSON.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "display/display_thread.h"
+#include "frameless/engine.h"
+#include "tools/command_registry.h"
+#include "tools/common_options.h"
+
+namespace frameless::cli {
+namespace {
+
+struct BenchArgs {
+  std::string scene = "default";
+  std::string size = "640x360";
+  int threads = 0;
+  double seconds = 2.0;
+  int repeats = 3;
+  bool json = false;
+};
+
+void sleep_s(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
+
+void note(const char* what) {
+  if (show_progress()) std::fprintf(stderr, "bench engine: %s...\n", what);
+}
+
+// Samples/s of the render threads alone (no display thread), after a short warm-up.
+double throughput(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+  Engine e(scene, c, camera);
+  e.start();
+  sleep_s(0.3);
+  const EngineStats a = e.stats();
+  sleep_s(seconds);
+  const EngineStats b = e.stats();
+  e.stop();
+  if (e.error()) throw std::runtime_error(*e.error());
+  return double(b.samples - a.samples) / (b.seconds - a.seconds);
+}
+
+// Display-thread CPU time as a fraction of one core while the engine renders.
+double display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+  c.width = 1280;
+  c.height = 720;
+  Engine e(scene, c, camera);
+  DisplayConfig dc;
+  dc.refresh_hz = 60;
+  DisplayThread d(e, dc);
+  e.start();
+  d.start();
+  sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
+  const DisplayStats s0 = d.stats();
+  sleep_s(seconds);
+  const DisplayStats s1 = d.stats();
+  d.stop();
+  e.stop();
+  return (s1.cpu_seconds - s0.cpu_seconds) / std::max(1e-9, s1.wall_seconds - s0.wall_seconds);
+}
+
+struct Latency {
+  double p50 = 0, p95 = 0, p100 = 0, ideal = 0;
+};
+
+// Time from a camera change until 50/95/100% of the displayed pixels show it (display at 240 Hz).
+Latency latency(const Scene& scene, EngineConfig c, const Camera& camera) {
+  Engine e(scene, c, camera);
+  DisplayConfig dc;
+  dc.refresh_hz = 240;
+  DisplayThread d(e, dc);
+  std::mutex m;
+  std::vector<std::pair<double, double>> series;  // (engine seconds, coverage)
+  uint32_t watched = 0;
+  d.set_on_tick([&](const DisplayImage& img) {
+    std::lock_guard<std::mutex> lock(m);
+    if (img.info.newest_epoch == watched) series.push_back({img.info.virtual_time, img.info.coverage});
+  });
+  e.start();
+  d.start();
+  sleep_s(0.5);
+  Camera moved = camera;
+  moved.eye += 0.05f * (camera.look - camera.eye);
+  const EngineStats s0 = e.stats();
+  double t0;
+  {
+    std::lock_guard<std::mutex> lock(m);
+    t0 = e.now();
+    watched = e.publish_camera(moved);
+  }
+  Latency r{-1, -1, -1, 0};
+  for (int k = 0; k < 2000; ++k) {
+    sleep_s(0.005);
+    std::lock_guard<std::mutex> lock(m);
+    if (!series.empty() && series.back().second >= 1.0) break;
+  }
+  const EngineStats s1 = e.stats();
+  d.stop();
+  e.stop();
+  for (const auto& [t, cov] : series) {
+    if (r.p50 < 0 && cov >= 0.5) r.p50 = (t - t0) * 1e3;
+    if (r.p95 < 0 && cov >= 0.95) r.p95 = (t - t0) * 1e3;
+    if (r.p100 < 0 && cov >= 1.0) r.p100 = (t - t0) * 1e3;
+  }
+  const double updates_per_s = double(s1.updates - s0.updates) / std::max(1e-9, s1.seconds - s0.seconds);
+  r.ideal = double(c.width) * c.height / updates_per_s * 1e3;
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+int run_bench(const BenchArgs& a) {
+  std::string error;
+  int width = 0, height = 0;
+  if (!parse_size(a.size, width, height, error)) return report_error(error);
+  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  if (!scene) return 2;
+  EngineConfig c;
+  c.width = width;
+  c.height = height;
+  c.threads = a.threads > 0 ? a.threads : hardware_threads();
+  c.track_variance = false;
+  const Camera camera = scene->camera;
+
+  try {
+    note("frameless throughput");
+    EngineConfig fc = c;
+    const double fl = throughput(*scene, fc, camera, a.seconds);
+    note("conventional throughput");
+    EngineConfig cc = c;
+    cc.mode = RenderMode::conventional;
+    const double conv = throughput(*scene, cc, camera, a.seconds);
+    note("display CPU at 60 Hz, 1280x720");
+    const double cpu = display_cpu(*scene, c, camera, a.seconds);
+    std::vector<double> p50, p95, p100, ideal;
+    for (int k = 0; k < std::max(1, a.repeats); ++k) {
+      note("camera-change latency");
+      const Latency l = latency(*scene, c, camera);
+      p50.push_back(l.p50);
+      p95.push_back(l.p95);
+      p100.push_back(l.p100);
+      ideal.push_back(l.ideal);
+    }
+    nlohmann::json j;
+    j["scene"] = a.scene;
+    j["width"] = width;
+    j["height"] = height;
+    j["threads"] = c.threads;
+    j["hardware_threads"] = hardware_threads();
+    j["seconds_per_measurement"] = a.seconds;
+    j["frameless_samples_per_s"] = fl;
+    j["conventional_samples_per_s"] = conv;
+    j["frameless_overhead"] = 1.0 - fl / conv;
+    j["display_cpu_fraction"] = cpu;
+    j["display_size"] = "1280x720";
+    j["display_hz"] = 60;
+    j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
+    j["latency_ideal_ms"] = median(ideal);
+    j["latency_repeats"] = p50.size();
+    j["update_percent"] = c.update_percent;
+    if (a.json) {
+      std::printf("%s\n", j.dump(2).c_str());
+    } else {
+      std::printf("scene %s %dx%d, %d threads\n", a.scene.c_str(), width, height, c.threads);
+      std::printf("frameless    %.3f M samples/s\nconventional %.3f M samples/s (frameless overhead %.1f%%)\n",
+                  fl * 1e-6, conv * 1e-6, 100.0 * (1.0 - fl / conv));
+      std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core\n", 100.0 * cpu);
+      std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
+                  median(p50), median(p95), median(p100), median(ideal));
+    }
+  } catch (const std::exception& ex) {
+    return report_error(ex.what());
+  }
+  return 0;
+}
+
+const bool registered = register_command(
+    "bench", "engine", "Frameless vs conventional samples/s, display CPU, camera-change latency",
+    [](CLI::App& app) {
+      auto args = std::make_shared<BenchArgs>();
+      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("--size", args->size, "Image size WxH for throughput and latency (default 640x360)");
+      app.add_option("--threads", args->threads, "Render threads (default: all hardware threads)");
+      app.add_option("--seconds", args->seconds, "Seconds per throughput measurement (default 2)");
+      app.add_option("--repeats", args->repeats, "Latency repetitions; the median is reported (default 3)");
+      app.add_flag("--json", args->json, "Print JSON");
+      return [args]() { return run_bench(*args); };
+    });
+
+}  // namespace
+}  // namespace frameless::cli
