@@ -59,7 +59,7 @@ Material polished(const char* name, Vec3 kd, float r0) {
 std::unique_ptr<Scene> make_default() {
   auto s = std::make_unique<Scene>();
   s->name = "default";
-  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.70f, 0.68f, 0.64f)));
+  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.58f, 0.56f, 0.52f)));
   const uint16_t wall = add_material(*s, diffuse("wall", Vec3(0.62f, 0.64f, 0.70f)));
   const uint16_t clay = add_material(*s, diffuse("clay", Vec3(0.80f, 0.28f, 0.18f)));
   const uint16_t gold = add_material(*s, metal("gold", Vec3(0.95f, 0.74f, 0.36f), 200.0f));
@@ -89,7 +89,8 @@ std::unique_ptr<Scene> make_default() {
   s->camera.look = Vec3(0.0f, 0.7f, 0.0f);
   s->camera.up = Vec3(0.0f, 1.0f, 0.0f);
   s->camera.fov_deg = 45.0f;
-  s->settings.background = Vec3(0.0f);
+  // A muted sky, so metal and glass reflect something where the room is open.
+  s->settings.background = Vec3(0.30f, 0.36f, 0.46f);
   return s;
 }
 
