@@ -1,5 +1,9 @@
 // `frameless bench rays`: primary- and shadow-ray throughput of the BVH, single-thread and with N
 // threads, side by side with Embree (rtcIntersect1 and 8-wide packets) when it is available.
+#include <pmmintrin.h>
+#include <time.h>
+#include <xmmintrin.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -7,15 +11,10 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <pmmintrin.h>
-#include <time.h>
-#include <xmmintrin.h>
-
-#include <nlohmann/json.hpp>
 
 #include "core/scene.h"
 #include "tools/command_registry.h"
@@ -34,6 +33,7 @@ struct BenchArgs {
   int threads = 0;
   int reps = 5;
   bool json = false;
+  bool no_embree = false;
   CameraFlags camera;
 };
 
@@ -86,7 +86,8 @@ int run_bench(BenchArgs& a) {
   int width = 0, height = 0;
   std::string error;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (a.threads < 0 || a.threads > 1024)
+    return report_error("--threads: must be between 1 and 1024");
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
@@ -152,7 +153,8 @@ int run_bench(BenchArgs& a) {
 
   Timing p1, pn, s1, sn;
 #if defined(FRAMELESS_HAVE_EMBREE)
-  EmbreeBench embree(*scene, threads);
+  std::unique_ptr<EmbreeBench> embree_ptr;
+  if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads);
   std::vector<EmbreeHit> ehits(primary.size());
   std::vector<uint8_t> eocc(shadow.size());
   Timing ep1, epn, e81, e8n, es1, esn, es81, es8n;
@@ -174,18 +176,21 @@ int run_bench(BenchArgs& a) {
         for (size_t i = b; i < e; ++i) occluded[i] = accel.occluded(shadow[i]);
       }));
 #if defined(FRAMELESS_HAVE_EMBREE)
-      (nt == 1 ? ep1 : epn).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
-        embree.intersect1(primary.data() + b, ehits.data() + b, e - b);
-      }));
-      (nt == 1 ? e81 : e8n).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
-        embree.intersect8(primary.data() + b, ehits.data() + b, e - b);
-      }));
-      (nt == 1 ? es1 : esn).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
-        embree.occluded1(shadow.data() + b, eocc.data() + b, e - b);
-      }));
-      (nt == 1 ? es81 : es8n).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
-        embree.occluded8(shadow.data() + b, eocc.data() + b, e - b);
-      }));
+      if (embree_ptr) {
+        const EmbreeBench& embree = *embree_ptr;
+        (nt == 1 ? ep1 : epn).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
+          embree.intersect1(primary.data() + b, ehits.data() + b, e - b);
+        }));
+        (nt == 1 ? e81 : e8n).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
+          embree.intersect8(primary.data() + b, ehits.data() + b, e - b);
+        }));
+        (nt == 1 ? es1 : esn).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
+          embree.occluded1(shadow.data() + b, eocc.data() + b, e - b);
+        }));
+        (nt == 1 ? es81 : es8n).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
+          embree.occluded8(shadow.data() + b, eocc.data() + b, e - b);
+        }));
+      }
 #endif
       if (threads == 1) break;
     }
@@ -215,7 +220,8 @@ int run_bench(BenchArgs& a) {
   j["primary_rays"] = primary.size();
   j["shadow_rays"] = shadow.size();
   j["primary_hit_fraction"] = double(primary_hits) / double(primary.size());
-  j["shadow_occluded_fraction"] = shadow.empty() ? 0.0 : double(shadow_occluded) / double(shadow.size());
+  j["shadow_occluded_fraction"] =
+      shadow.empty() ? 0.0 : double(shadow_occluded) / double(shadow.size());
   j["primary_mrays_per_s"] = pn.mrays(primary.size());
   j["shadow_mrays_per_s"] = sn.mrays(shadow.size());
   j["primary_mrays_per_s_1t"] = p1.mrays(primary.size());
@@ -224,37 +230,40 @@ int run_bench(BenchArgs& a) {
   j["clock_1t"] = "thread CPU time";
   j["clock_nt"] = "wall time";
 #if defined(FRAMELESS_HAVE_EMBREE)
-  if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81;
-  // Agreement on hit/miss and the hit primitive (edges may legitimately differ).
-  size_t same_hit = 0, same_occ = 0;
-  for (size_t i = 0; i < primary.size(); ++i)
-    same_hit += (hits[i].valid() == ehits[i].valid()) &&
-                (!hits[i].valid() || embree.prim_id(ehits[i]) == hits[i].prim);
-  for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
   nlohmann::ordered_json e;
-  e["version"] = embree.version();
-  e["build_ms"] = embree.build_ms();
-  e["bytes"] = embree.bytes();
-  e["primary_mrays_per_s_1t"] = ep1.mrays(primary.size());
-  e["primary_packet8_mrays_per_s_1t"] = e81.mrays(primary.size());
-  e["shadow_mrays_per_s_1t"] = es1.mrays(shadow.size());
-  e["shadow_packet8_mrays_per_s_1t"] = es81.mrays(shadow.size());
-  e["primary_mrays_per_s"] = epn.mrays(primary.size());
-  e["primary_packet8_mrays_per_s"] = e8n.mrays(primary.size());
-  e["shadow_mrays_per_s"] = esn.mrays(shadow.size());
-  e["shadow_packet8_mrays_per_s"] = es8n.mrays(shadow.size());
-  // Ratios ours / Embree (above 1: we are faster).
-  e["ratio_primary_vs_intersect1_1t"] = p1.mrays(1) / ep1.mrays(1);
-  e["ratio_primary_vs_packet8_1t"] = p1.mrays(1) / e81.mrays(1);
-  e["ratio_shadow_vs_occluded1_1t"] = s1.mrays(1) / es1.mrays(1);
-  e["ratio_shadow_vs_packet8_1t"] = s1.mrays(1) / es81.mrays(1);
-  e["ratio_primary_vs_intersect1"] = pn.mrays(1) / epn.mrays(1);
-  e["ratio_primary_vs_packet8"] = pn.mrays(1) / e8n.mrays(1);
-  e["ratio_shadow_vs_occluded1"] = sn.mrays(1) / esn.mrays(1);
-  e["ratio_shadow_vs_packet8"] = sn.mrays(1) / es8n.mrays(1);
-  e["primary_agreement"] = double(same_hit) / double(primary.size());
-  e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
-  j["embree"] = e;
+  if (embree_ptr) {
+    const EmbreeBench& embree = *embree_ptr;
+    if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81;
+    // Agreement on hit/miss and the hit primitive (edges may legitimately differ).
+    size_t same_hit = 0, same_occ = 0;
+    for (size_t i = 0; i < primary.size(); ++i)
+      same_hit += (hits[i].valid() == ehits[i].valid()) &&
+                  (!hits[i].valid() || embree.prim_id(ehits[i]) == hits[i].prim);
+    for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
+    e["version"] = embree.version();
+    e["build_ms"] = embree.build_ms();
+    e["bytes"] = embree.bytes();
+    e["primary_mrays_per_s_1t"] = ep1.mrays(primary.size());
+    e["primary_packet8_mrays_per_s_1t"] = e81.mrays(primary.size());
+    e["shadow_mrays_per_s_1t"] = es1.mrays(shadow.size());
+    e["shadow_packet8_mrays_per_s_1t"] = es81.mrays(shadow.size());
+    e["primary_mrays_per_s"] = epn.mrays(primary.size());
+    e["primary_packet8_mrays_per_s"] = e8n.mrays(primary.size());
+    e["shadow_mrays_per_s"] = esn.mrays(shadow.size());
+    e["shadow_packet8_mrays_per_s"] = es8n.mrays(shadow.size());
+    // Ratios ours / Embree (above 1: we are faster).
+    e["ratio_primary_vs_intersect1_1t"] = p1.mrays(1) / ep1.mrays(1);
+    e["ratio_primary_vs_packet8_1t"] = p1.mrays(1) / e81.mrays(1);
+    e["ratio_shadow_vs_occluded1_1t"] = s1.mrays(1) / es1.mrays(1);
+    e["ratio_shadow_vs_packet8_1t"] = s1.mrays(1) / es81.mrays(1);
+    e["ratio_primary_vs_intersect1"] = pn.mrays(1) / epn.mrays(1);
+    e["ratio_primary_vs_packet8"] = pn.mrays(1) / e8n.mrays(1);
+    e["ratio_shadow_vs_occluded1"] = sn.mrays(1) / esn.mrays(1);
+    e["ratio_shadow_vs_packet8"] = sn.mrays(1) / es8n.mrays(1);
+    e["primary_agreement"] = double(same_hit) / double(primary.size());
+    e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
+    j["embree"] = e;
+  }
 #endif
   if (a.json) {
     std::printf("%s\n", j.dump().c_str());
@@ -263,10 +272,11 @@ int run_bench(BenchArgs& a) {
   std::printf("scene %s: %zu primitives (%u triangles, %u spheres), %dx%d, %d threads\n",
               a.scene.c_str(), prims, geom.num_triangles(), geom.num_spheres(), width, height,
               threads);
-  std::printf("BVH: build %.1f ms serial, %.1f ms parallel; %zu nodes, depth %d; "
-              "%.1f bytes/prim (BVH %zu + geometry %zu)\n",
-              serial_stats.build_ms, stats.build_ms, stats.nodes, stats.depth,
-              j["bytes_per_prim"].get<double>(), stats.bytes, stats.geometry_bytes);
+  std::printf(
+      "BVH: build %.1f ms serial, %.1f ms parallel; %zu nodes, depth %d; "
+      "%.1f bytes/prim (BVH %zu + geometry %zu)\n",
+      serial_stats.build_ms, stats.build_ms, stats.nodes, stats.depth,
+      j["bytes_per_prim"].get<double>(), stats.bytes, stats.geometry_bytes);
   std::printf("%-28s %12s %12s\n", "Mrays/s (best, 1T: CPU time)", "1 thread",
               (std::to_string(threads) + " threads").c_str());
   auto row = [](const char* name, double one, double many) {
@@ -275,17 +285,20 @@ int run_bench(BenchArgs& a) {
   row("primary", p1.mrays(primary.size()), pn.mrays(primary.size()));
   row("shadow", s1.mrays(shadow.size()), sn.mrays(shadow.size()));
 #if defined(FRAMELESS_HAVE_EMBREE)
-  row("embree primary intersect1", ep1.mrays(primary.size()), epn.mrays(primary.size()));
-  row("embree primary intersect8", e81.mrays(primary.size()), e8n.mrays(primary.size()));
-  row("embree shadow occluded1", es1.mrays(shadow.size()), esn.mrays(shadow.size()));
-  row("embree shadow occluded8", es81.mrays(shadow.size()), es8n.mrays(shadow.size()));
-  row("ratio primary / intersect1", p1.mrays(1) / ep1.mrays(1), pn.mrays(1) / epn.mrays(1));
-  row("ratio primary / intersect8", p1.mrays(1) / e81.mrays(1), pn.mrays(1) / e8n.mrays(1));
-  row("ratio shadow / occluded1", s1.mrays(1) / es1.mrays(1), sn.mrays(1) / esn.mrays(1));
-  row("ratio shadow / occluded8", s1.mrays(1) / es81.mrays(1), sn.mrays(1) / es8n.mrays(1));
-  std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s, build %.1f ms)\n",
-              e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
-              embree.version().c_str(), embree.build_ms());
+  if (embree_ptr) {
+    const EmbreeBench& embree = *embree_ptr;
+    row("embree primary intersect1", ep1.mrays(primary.size()), epn.mrays(primary.size()));
+    row("embree primary intersect8", e81.mrays(primary.size()), e8n.mrays(primary.size()));
+    row("embree shadow occluded1", es1.mrays(shadow.size()), esn.mrays(shadow.size()));
+    row("embree shadow occluded8", es81.mrays(shadow.size()), es8n.mrays(shadow.size()));
+    row("ratio primary / intersect1", p1.mrays(1) / ep1.mrays(1), pn.mrays(1) / epn.mrays(1));
+    row("ratio primary / intersect8", p1.mrays(1) / e81.mrays(1), pn.mrays(1) / e8n.mrays(1));
+    row("ratio shadow / occluded1", s1.mrays(1) / es1.mrays(1), sn.mrays(1) / esn.mrays(1));
+    row("ratio shadow / occluded8", s1.mrays(1) / es81.mrays(1), sn.mrays(1) / es8n.mrays(1));
+    std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s, build %.1f ms)\n",
+                e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
+                embree.version().c_str(), embree.build_ms());
+  }
 #endif
   return 0;
 }
@@ -298,10 +311,12 @@ const bool registered = register_command(
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
           ->capture_default_str();
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
-      app.add_option("--threads", a->threads, "threads for the parallel figures (default: all cores)");
+      app.add_option("--threads", a->threads,
+                     "threads for the parallel figures (default: all cores)");
       app.add_option("--reps", a->reps, "repetitions; the best of them is reported")
           ->capture_default_str();
       app.add_flag("--json", a->json, "print one JSON object instead of a table");
+      app.add_flag("--no-embree", a->no_embree, "skip the Embree comparison (when built with it)");
       a->camera.add_to(app);
       return [a] { return run_bench(*a); };
     });

@@ -1,13 +1,13 @@
 // Embree 3 reference for `frameless bench rays`: the same scene and rays through rtcIntersect1 /
 // rtcOccluded1 and 8-wide packets; built on the main thread, queried from bench threads.
 #pragma once
+#include <embree3/rtcore.h>
+
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-
-#include <embree3/rtcore.h>
 
 #include "core/scene.h"
 

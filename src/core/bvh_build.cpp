@@ -74,7 +74,8 @@ class Builder {
       for (int pass = 0; pass < 2 && best < 0; ++pass)
         for (int i = 0; i < n; ++i) {
           const bool want = pass == 0 ? !ch[i].leaf_ok : ch[i].count() > 1;
-          if (want && ch[i].box.half_area() > best_area) best = i, best_area = ch[i].box.half_area();
+          if (want && ch[i].box.half_area() > best_area)
+            best = i, best_area = ch[i].box.half_area();
         }
       if (best < 0) break;
       Range left, right;
@@ -144,7 +145,8 @@ class Builder {
     Box cb;  // bounds of the doubled centroids lo + hi
     for (auto it = first; it != last; ++it) cb.grow(it->lo + it->hi, it->lo + it->hi);
     const Vec3 extent = cb.hi - cb.lo;
-    int axis = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
+    int axis =
+        extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
     const uint32_t mid = r.begin + n / 2;
     if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) {
       return finish(r, mid, left, right);  // all centroids equal: any split is as good
@@ -206,8 +208,8 @@ class Builder {
       });
       return finish(r, mid, left, right);
     }
-    const auto it =
-        std::partition(first, last, [&](const PrimRef& p) { return bin_of(p, best_axis) < best_k; });
+    const auto it = std::partition(first, last,
+                                   [&](const PrimRef& p) { return bin_of(p, best_axis) < best_k; });
     const uint32_t m = uint32_t(it - refs_.begin());
     left = make_range(r.begin, m, best_left);
     right = make_range(m, r.end, best_right);

@@ -1,7 +1,7 @@
-// Float helpers with a fixed rounding sequence, immune to the compiler's FMA contraction; any thread.
-// GCC contracts a * b + c into an FMA by default and may do so differently at each inlined call
-// site; intersection results must not depend on the call site (watertightness, and the BVH must
-// return bit-identical hits to a brute-force loop), so every product and FMA here is explicit.
+// Float helpers with a fixed rounding sequence, immune to the compiler's FMA contraction; any
+// thread. GCC contracts a * b + c into an FMA by default and may do so differently at each inlined
+// call site; intersection results must not depend on the call site (watertightness, and the BVH
+// must return bit-identical hits to a brute-force loop), so every product and FMA here is explicit.
 #pragma once
 #include <cmath>
 

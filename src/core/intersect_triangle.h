@@ -57,17 +57,19 @@ inline bool intersect_triangle(const TriangleRay& r, const Vec3& p0, const Vec3&
     v = float(double(ax) * double(cy) - double(ay) * double(cx));
     w = float(double(bx) * double(ay) - double(by) * double(ax));
   }
-  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  // One branch for all rejections (mixed edge signs, zero determinant, outside the interval):
+  // the early-outs of the paper mispredict about half the time in a BVH leaf.
+  const bool has_neg = (u < 0.0f) | (v < 0.0f) | (w < 0.0f);
+  const bool has_pos = (u > 0.0f) | (v > 0.0f) | (w > 0.0f);
   const float det = u + v + w;
-  if (det == 0.0f) return false;
   const float az = mul_exact(r.sz, a_z), bz = mul_exact(r.sz, b_z), cz = mul_exact(r.sz, c_z);
   const float tt = fmadd(u, az, fmadd(v, bz, mul_exact(w, cz)));
-  // Compare the scaled distance against the interval without dividing (sign of det folded in).
-  if (det > 0.0f) {
-    if (tt < mul_exact(tmin, det) || tt > mul_exact(tmax, det)) return false;
-  } else {
-    if (tt > mul_exact(tmin, det) || tt < mul_exact(tmax, det)) return false;
-  }
+  // Compare the scaled distance against the interval without dividing (sign of det folded in;
+  // negation is exact, so this equals comparing tt with tmin * det and tmax * det).
+  const float adet = std::abs(det);
+  const float stt = det < 0.0f ? -tt : tt;
+  const bool in_range = (stt >= mul_exact(tmin, adet)) & (stt <= mul_exact(tmax, adet));
+  if (!(!(has_neg & has_pos) & (det != 0.0f) & in_range)) return false;
   const float inv = 1.0f / det;
   t = mul_exact(tt, inv);
   b1 = mul_exact(v, inv);

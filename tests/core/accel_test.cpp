@@ -1,10 +1,11 @@
 // The BVH against brute force on random scenes (closest hit and any hit), permutation and memory.
-#include <cstdlib>
-#include <random>
+#include "core/accel.h"
 
 #include <gtest/gtest.h>
 
-#include "core/accel.h"
+#include <cstdlib>
+#include <random>
+
 #include "core/intersect_sphere.h"
 #include "core/intersect_triangle.h"
 
@@ -22,8 +23,10 @@ namespace {
 // About two million rays over the suite in Release; sanitizers run 5-20x slower.
 #if defined(FRAMELESS_SLOW_BUILD)
 constexpr int kRaysPerScene = 20000;
+constexpr int kBudgetScale = 4;
 #else
 constexpr int kRaysPerScene = 400000;
+constexpr int kBudgetScale = 1;
 #endif
 
 using Rng = std::mt19937;
@@ -89,8 +92,8 @@ bool brute_intersect(const Geometry& g, const Ray& ray, Hit& hit) {
   for (uint32_t i = 0; i < g.num_triangles(); ++i) {
     const UVec3 t = g.triangles[i];
     float th, u, v;
-    if (intersect_triangle(tr, g.positions[t.x], g.positions[t.y], g.positions[t.z], ray.tmin,
-                           tmax, th, u, v)) {
+    if (intersect_triangle(tr, g.positions[t.x], g.positions[t.y], g.positions[t.z], ray.tmin, tmax,
+                           th, u, v)) {
       tmax = th, hit.t = th, hit.u = u, hit.v = v, hit.prim = i, found = true;
     }
   }
@@ -108,8 +111,8 @@ float hit_distance(const Geometry& g, const Ray& ray, uint32_t prim) {
   float th = kInfinity, u, v;
   if (prim < g.num_triangles()) {
     const UVec3 t = g.triangles[prim];
-    intersect_triangle(make_triangle_ray(ray), g.positions[t.x], g.positions[t.y],
-                       g.positions[t.z], ray.tmin, ray.tmax, th, u, v);
+    intersect_triangle(make_triangle_ray(ray), g.positions[t.x], g.positions[t.y], g.positions[t.z],
+                       ray.tmin, ray.tmax, th, u, v);
   } else {
     intersect_sphere(ray.org, ray.dir, g.spheres[prim - g.num_triangles()], ray.tmin, ray.tmax, th);
   }
@@ -288,7 +291,7 @@ TEST(Accel, PermutationKeepsMaterialsWithTheirPrimitives) {
 
 TEST(Accel, MemoryBudget) {
   // At most 48 bytes per sphere and 64 per triangle for BVH plus geometry.
-  const int n = 200000;
+  const int n = 200000 / kBudgetScale;
   Geometry s = random_spheres(10, n);
   Accel a;
   a.build(s);
@@ -296,7 +299,7 @@ TEST(Accel, MemoryBudget) {
   EXPECT_GT(a.stats().bytes, 0u);
   // A closed grid mesh: vertices shared by about two triangles each, as in real meshes.
   Geometry m;
-  const int k = 300;
+  const int k = 300 / kBudgetScale;
   for (int y = 0; y <= k; ++y)
     for (int x = 0; x <= k; ++x)
       m.positions.push_back({float(x), float(y), std::sin(float(x * y) * 0.01f)});

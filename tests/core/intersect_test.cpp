@@ -1,7 +1,7 @@
 // Ray/sphere and ray/triangle tests against closed-form answers.
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/intersect_sphere.h"
 #include "core/intersect_triangle.h"

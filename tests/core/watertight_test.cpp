@@ -1,10 +1,10 @@
 // Watertightness: rays aimed exactly at shared edges and vertices of closed meshes never pass
 // through, at the origin and far from it (triangle test and BVH box test together).
+#include <gtest/gtest.h>
+
 #include <map>
 #include <random>
 #include <utility>
-
-#include <gtest/gtest.h>
 
 #include "core/accel.h"
 
@@ -15,8 +15,8 @@ namespace {
 // vertices are shared so the mesh is closed.
 Geometry icosphere(int levels, Vec3 center, float radius) {
   const float p = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  std::vector<Vec3> v = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                         {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+  std::vector<Vec3> v = {{-1, p, 0},  {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                         {0, -1, -p}, {0, 1, -p}, {p, 0, -1},  {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
   std::vector<UVec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                           {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                           {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
