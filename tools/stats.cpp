@@ -121,12 +121,12 @@ bool write_plot(const std::string& dir, const std::vector<OrderResult>& rs, std:
     return false;
   const std::string png = dir + "/compare.png";
   const std::string tmp = temporary_path_for(png);
-  script += "set terminal pngcairo size 1100,420 font 'sans,10'\n";
+  script += "set terminal pngcairo size 1000,380 font 'sans,9'\n";
   script += "set output '" + tmp + "'\n";
   script += "set multiplot layout 1,2\n";
   script += "set title 'Update-mask power spectrum / random-chunk null (1 = no structure)'\n";
   script += "set xlabel 'spatial frequency (cycles per pixel)'\nset ylabel 'power ratio'\n";
-  script += "set logscale xy\nset grid\nset key top right\n";
+  script += "set logscale xy\nset format x '%g'\nset format y '%g'\nset xrange [0.005:1]\nset grid\nset key top right\n";
   script += "set arrow from 0.0625, graph 0 to 0.0625, graph 1 nohead dt 2 lc rgb 'gray40'\n";
   script += "plot ";
   for (size_t k = 0; k < rs.size(); ++k) {
@@ -139,7 +139,13 @@ bool write_plot(const std::string& dir, const std::vector<OrderResult>& rs, std:
   script += "\nunset logscale xy\nunset arrow\n";
   script += "set title 'Staleness after a camera change'\n";
   script += "set xlabel 'sweeps since the change'\nset ylabel 'fraction of pixels showing the new camera'\n";
-  script += "set yrange [0:1.02]\nset key bottom right\nplot ";
+  script += "set format x '%g'\nset xrange [0:*]\nset yrange [0:1.02]\nset key bottom right\n";
+  if (!rs.empty())
+    script += "set arrow from " + std::to_string(rs[0].stats.staleness.bound_sweeps) +
+              ", graph 0 to " + std::to_string(rs[0].stats.staleness.bound_sweeps) +
+              ", graph 1 nohead dt 2 lc rgb 'gray40'\nset label 'bound 1 + p/100' at " +
+              std::to_string(rs[0].stats.staleness.bound_sweeps) + ", graph 0.5 right offset -0.5,0\n";
+  script += "plot ";
   for (size_t k = 0; k < rs.size(); ++k)
     script += (k ? ", " : "") + std::string("'") + dir + "/staleness.dat' index " + std::to_string(k) +
               " using 1:2 with lines lw 2 title '" + to_string(rs[k].order) + "'";

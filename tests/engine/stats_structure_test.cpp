@@ -85,7 +85,7 @@ TEST(StatsStructure, ScanlineAndUnshuffledHilbertFail) {
                      std::to_string(c.h) + " threads " + std::to_string(threads));
         const OrderStats s = run_order(c.w, c.h, c.chunk, threads, order);
         EXPECT_LT(s.structure.lowfreq_p_value, kAlpha) << "ratio " << s.structure.lowfreq_ratio;
-        EXPECT_GT(s.structure.lowfreq_ratio, 2.0);
+        EXPECT_GT(s.structure.lowfreq_ratio, 1.1);  // and clearly above the null mean of 1
       }
 }
 
