@@ -64,6 +64,8 @@ int run(const CaptureArgs& a) {
   e.deterministic = a.deterministic;
   e.samples_per_tick = a.samples_per_tick;
   e.jitter = !a.no_jitter;
+  // Variance is tracked only when the capture writes the variance layer.
+  for (const std::string& l : o.layers) e.track_variance |= l == "variance";
   const auto mode = parse_render_mode(a.mode);
   if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
   e.mode = *mode;

@@ -38,6 +38,7 @@ int run(const ViewArgs& a) {
   e.update_percent = a.update_percent;
   e.seed = a.seed;
   e.jitter = !a.no_jitter;
+  e.track_variance = true;  // the viewer's variance view reads it
   const auto mode = parse_render_mode(a.mode);
   if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
   e.mode = *mode;

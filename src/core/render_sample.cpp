@@ -2,6 +2,7 @@
 #include "core/render_sample.h"
 
 #include "core/rng.h"
+#include "core/scene_analysis.h"
 #include "core/shading.h"
 
 namespace frameless {
@@ -14,7 +15,8 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   SampleResult out;
   Hit hit;
   SurfacePoint sp;
-  out.color = trace_radiance(scene, ray, 0, Vec3(1.0f), nullptr, &hit, &sp);
+  // The shading path is chosen once per sample from the scene's features and skips.
+  out.color = trace_radiance_path(scene, shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp);
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;

@@ -1,5 +1,7 @@
 #include "core/scene.h"
 
+#include "core/scene_analysis.h"
+
 namespace frameless {
 
 const char* material_class_name(MaterialClass c) {
@@ -13,18 +15,7 @@ const char* material_class_name(MaterialClass c) {
 }
 
 void finalize_scene(Scene& scene, const AccelConfig& config) {
-  SceneFeatures& f = scene.features;
-  f = {};
-  f.has_lights = !scene.lights.empty();
-  f.has_spheres = !scene.geometry.spheres.empty();
-  f.has_triangles = !scene.geometry.triangles.empty();
-  f.has_vertex_normals = !scene.geometry.normals.empty();
-  for (const Material& m : scene.materials) {
-    f.has_dielectric |= m.cls == MaterialClass::kDielectric;
-    f.has_reflection |= m.cls != MaterialClass::kDiffuse;
-    f.has_highlights |= m.cls != MaterialClass::kDiffuse && glm::dot(m.kh, m.kh) > 0.0f;
-    f.has_highlights |= m.cls == MaterialClass::kMetal && glm::dot(m.ks, m.ks) > 0.0f;
-  }
+  scene.features = analyse_scene(scene);
   scene.accel.build(scene.geometry, config);
 }
 

@@ -12,6 +12,17 @@
 
 namespace frameless {
 
+// Switches for the specialisations of the per-sample path (docs/adaptive.md). Each one only lets
+// the shading skip work the scene cannot need; the ablation benchmark turns them off one by one to
+// measure what each saves. All on by default. Plain data, read by render threads.
+struct SkipConfig {
+  bool shadows = true;     // no lights: shading compiled without the light loop and shadow rays
+  bool refraction = true;  // no dielectric: compiled without refraction, media and absorption
+  bool highlights = true;  // no highlight on any material: compiled without Phong lobes
+  bool prune = true;       // prune ray-tree branches below min_contribution (off: only weight 0)
+  bool any_hit = true;     // shadow rays stop at the first occluder (off: closest-hit traversal)
+};
+
 struct RenderSettings {
   int width = 640;
   int height = 480;
@@ -20,6 +31,7 @@ struct RenderSettings {
   float min_contribution = 1.0f / 512; // prune ray-tree branches whose weight falls below this
   Vec3 background{0.0f};               // radiance of rays that escape
   uint64_t seed = 1;                   // global seed mixed into every sample
+  SkipConfig skips;                    // which specialisations may be used (ablation switches)
 };
 
 // What the scene needs, found at finalize time so the per-sample path skips the rest.
@@ -31,6 +43,11 @@ struct SceneFeatures {
   bool has_reflection = false;  // metal, dielectric or polished
   bool has_highlights = false;  // some material with k_h != 0
   bool has_vertex_normals = false;
+  bool has_absorption = false;  // some dielectric with extinction > 0 (Beer's law along the ray)
+  bool has_ambient = false;     // ambient kind other than none
+  // Always false: materials have no textures, so no path computes texture coordinates (the hit's
+  // barycentrics only rebuild the hit point). Kept so the analysis states it.
+  bool has_textures = false;
 };
 
 struct Scene {

@@ -8,10 +8,19 @@
 // give no highlight at all; it is OCR damage of the Blinn-Phong (h.n)^N, which we use.
 // Equation 2 prints the polished highlight as s k_h (h.l)^N without l_e; we multiply by l_e as
 // equation 1 does, so coloured and multiple lights act alike on every class (same for white).
+//
+// Specialisation (docs/adaptive.md): every internal function is a template on the ShadeBits of
+// the path (core/scene_analysis.h). trace_sample picks the path once per sample from the scene's
+// features and SkipConfig; a cleared bit removes the light loop, the dielectric class and media,
+// or the Phong lobes at compile time, so the per-ray code carries no branch for them.
 #include "core/shading.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
+
+#include "core/scene_analysis.h"
 
 namespace frameless {
 
@@ -31,10 +40,25 @@ inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float expon
   return hn > 0.0f ? std::pow(hn, exponent) : 0.0f;
 }
 
+// Per-sample constants of a shading path (read once per sample, not per ray).
+struct ShadeContext {
+  const Scene& scene;
+  float min_weight;  // pruning threshold: min_contribution, or 0 with SkipConfig::prune off
+  bool any_hit;      // shadow rays by any-hit traversal (SkipConfig::any_hit)
+  int max_depth;
+};
+
+ShadeContext make_context(const Scene& scene) {
+  const RenderSettings& s = scene.settings;
+  return ShadeContext{scene, s.skips.prune ? s.min_contribution : 0.0f, s.skips.any_hit,
+                      s.max_depth};
+}
+
 // Calls f(l_e, l, n.l) for each light that faces the surface and is not occluded (s = 1).
 // Hard shadows: one any-hit ray to the light's centre, ending just short of the light.
 template <class F>
-inline void for_each_visible_light(const Scene& scene, const SurfacePoint& sp, F&& f) {
+inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp, F&& f) {
+  const Scene& scene = c.scene;
   const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
   for (const Light& light : scene.lights) {
     const Vec3 to_light = light.position - origin;
@@ -50,28 +74,38 @@ inline void for_each_visible_light(const Scene& scene, const SurfacePoint& sp, F
     shadow.tmin = 0.0f;
     // Stop short of the light: its centre, or the surface of a spherical light.
     shadow.tmax = std::max(0.0f, dist - light.radius) * (1.0f - 0x1.0p-12f);
-    if (shadow.tmax > 0.0f && scene.accel.occluded(shadow)) continue;
+    if (shadow.tmax > 0.0f) {
+      if (c.any_hit) {
+        if (scene.accel.occluded(shadow)) continue;
+      } else {
+        Hit blocker;  // ablation: closest-hit traversal for the same visibility question
+        if (scene.accel.intersect(shadow, blocker)) continue;
+      }
+    }
     f(light.color, l, nl);
   }
 }
 
-Vec3 trace_from(const Scene& scene, const Ray& ray, const Vec3& start, int depth,
+template <uint32_t F>
+Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
                 const Vec3& weight, const Material* medium, Hit* first_hit,
                 SurfacePoint* first_point);
 
 // Traces a secondary ray when the depth limit and the pruning threshold allow it.
 // `start` is the surface point before the origin offset (for the distance travelled inside).
-inline Vec3 trace_child(const Scene& scene, const Vec3& start, const Vec3& origin, const Vec3& dir,
-                        int depth, const Vec3& child_weight, const Material* medium) {
-  if (depth >= scene.settings.max_depth) return Vec3(0.0f);
+template <uint32_t F>
+inline Vec3 trace_child(const ShadeContext& c, const Vec3& start, const Vec3& origin,
+                        const Vec3& dir, int depth, const Vec3& child_weight,
+                        const Material* medium) {
+  if (depth >= c.max_depth) return Vec3(0.0f);
   // Zero-weight branches are always pruned, so a threshold of 0 cannot explode the tree.
   const float w = max_component(child_weight);
-  if (w <= 0.0f || w < scene.settings.min_contribution) return Vec3(0.0f);
+  if (w <= 0.0f || w < c.min_weight) return Vec3(0.0f);
   Ray r;
   r.org = origin;
   r.dir = glm::normalize(dir);
   r.tmin = 0.0f;
-  return trace_from(scene, r, start, depth + 1, child_weight, medium, nullptr, nullptr);
+  return trace_from<F>(c, r, start, depth + 1, child_weight, medium, nullptr, nullptr);
 }
 
 // Mirror direction of d about n; falls back to the geometric normal if the shading normal
@@ -82,31 +116,34 @@ inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) {
   return r;
 }
 
-Vec3 shade_diffuse(const Scene& scene, const Material& m, const SurfacePoint& sp) {
+template <uint32_t F>
+Vec3 shade_diffuse(const ShadeContext& c, const Material& m, const SurfacePoint& sp) {
   // Equation 1 with k_h = k_s = k_t = 0: k_d (l_a + s l_e n.l).
-  Vec3 light_sum = ambient_light(scene.ambient, sp.ns);
-  if (scene.features.has_lights)
-    for_each_visible_light(scene, sp,
-                           [&](const Vec3& le, const Vec3&, float nl) { light_sum += le * nl; });
+  Vec3 light_sum = ambient_light(c.scene.ambient, sp.ns);
+  if constexpr ((F & kShadeLights) != 0)
+    for_each_visible_light(c, sp, [&](const Vec3& le, const Vec3&, float nl) { light_sum += le * nl; });
   return m.kd * light_sum;
 }
 
-Vec3 shade_metal(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
+template <uint32_t F>
+Vec3 shade_metal(const ShadeContext& c, const Ray& ray, const Material& m, const SurfacePoint& sp,
                  int depth, const Vec3& weight, const Material* medium) {
   // Equation 1 with k_d = k_t = 0 and k_h = k_s: s l_e k_s (h.n)^N + k_s L_s.
   const Vec3 e = -ray.dir;
   Vec3 out(0.0f);
-  if (scene.features.has_lights)
-    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float) {
+  if constexpr ((F & kShadeLights) != 0 && (F & kShadeHighlights) != 0)
+    for_each_visible_light(c, sp, [&](const Vec3& le, const Vec3& l, float) {
       out += le * m.ks * phong_lobe(sp.ns, e, l, m.phong_exponent);
     });
-  out += m.ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
-                            mirror(ray.dir, sp), depth, weight * m.ks, medium);
+  out += m.ks * trace_child<F>(c, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                               mirror(ray.dir, sp), depth, weight * m.ks, medium);
   return out;
 }
 
-Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
-                      int depth, const Vec3& weight, const Material* medium) {
+template <uint32_t F>
+Vec3 shade_dielectric(const ShadeContext& c, const Ray& ray, const Material& m,
+                      const SurfacePoint& sp, int depth, const Vec3& weight,
+                      const Material* medium) {
   // Equation 1 with k_d = 0, k_s from Schlick, k_t = 1 - k_s, plus a Phong term.
   const Vec3 e = -ray.dir;
   const float cos_i = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
@@ -114,44 +151,123 @@ Vec3 shade_dielectric(const Scene& scene, const Ray& ray, const Material& m, con
   const float eta = sp.front_face ? 1.0f / m.ior : m.ior;
   const FresnelTerms f = dielectric_fresnel(cos_i, eta, r0_from_ior(m.ior));
   Vec3 out(0.0f);
-  if (scene.features.has_highlights && scene.features.has_lights && max_component(m.kh) > 0.0f)
-    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float) {
-      out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
-    });
+  if constexpr ((F & kShadeLights) != 0 && (F & kShadeHighlights) != 0)
+    if (max_component(m.kh) > 0.0f)
+      for_each_visible_light(c, sp, [&](const Vec3& le, const Vec3& l, float) {
+        out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
+      });
   // Reflection stays on the incident side, in the incident medium.
-  out += f.ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
-                            mirror(ray.dir, sp), depth, weight * f.ks, medium);
+  out += f.ks * trace_child<F>(c, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                               mirror(ray.dir, sp), depth, weight * f.ks, medium);
   if (!f.total_internal_reflection) {
     const Vec3 t = eta * ray.dir + (eta * cos_i - f.cos_t) * sp.ns;
     // Leaving returns to air: nested dielectrics are not tracked (one medium at a time).
     const Material* next = sp.front_face ? &m : nullptr;
-    out += f.kt * trace_child(scene, sp.p, offset_ray_origin(sp.p, -sp.ng, sp.scale), t, depth,
-                              weight * f.kt, next);
+    out += f.kt * trace_child<F>(c, sp.p, offset_ray_origin(sp.p, -sp.ng, sp.scale), t, depth,
+                                 weight * f.kt, next);
   }
   return out;
 }
 
-Vec3 shade_polished(const Scene& scene, const Ray& ray, const Material& m, const SurfacePoint& sp,
-                    int depth, const Vec3& weight, const Material* medium) {
+template <uint32_t F>
+Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const Material& m,
+                    const SurfacePoint& sp, int depth, const Vec3& weight,
+                    const Material* medium) {
   // Equation 2 (coupled model): k_d l_a (1 - k_s(e,n)) + s k_d l_e (1 - (1 - n.e)^5)(1 - (1 -
   // n.l)^5)
   //                            + s k_h l_e (h.n)^N + k_s(e,n) L_s.
   const Vec3 e = -ray.dir;
   const float en = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
   const Vec3 ks = schlick(en, m.r0);
-  Vec3 out = m.kd * ambient_light(scene.ambient, sp.ns) * (Vec3(1.0f) - ks);
-  if (scene.features.has_lights) {
+  Vec3 out = m.kd * ambient_light(c.scene.ambient, sp.ns) * (Vec3(1.0f) - ks);
+  if constexpr ((F & kShadeLights) != 0) {
     const float view_factor = 1.0f - pow5(1.0f - en);
-    const bool highlight = max_component(m.kh) > 0.0f;
-    for_each_visible_light(scene, sp, [&](const Vec3& le, const Vec3& l, float nl) {
+    const bool highlight = (F & kShadeHighlights) != 0 && max_component(m.kh) > 0.0f;
+    for_each_visible_light(c, sp, [&](const Vec3& le, const Vec3& l, float nl) {
       out += m.kd * le * (view_factor * (1.0f - pow5(1.0f - nl)));
       if (highlight) out += le * m.kh * phong_lobe(sp.ns, e, l, m.phong_exponent);
     });
   }
-  out += ks * trace_child(scene, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
-                          mirror(ray.dir, sp), depth, weight * ks, medium);
+  out += ks * trace_child<F>(c, sp.p, offset_ray_origin(sp.p, sp.ng, sp.scale),
+                             mirror(ray.dir, sp), depth, weight * ks, medium);
   return out;
 }
+
+template <uint32_t F>
+Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const SurfacePoint& sp, int depth,
+                        const Vec3& weight, const Material* medium) {
+  const Material& m = c.scene.materials[sp.material];
+  switch (m.cls) {
+    case MaterialClass::kDiffuse:
+      return shade_diffuse<F>(c, m, sp);
+    case MaterialClass::kMetal:
+      return shade_metal<F>(c, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kDielectric:
+      // Without the refraction bit the scene has no dielectric: this case cannot occur.
+      if constexpr ((F & kShadeRefraction) != 0)
+        return shade_dielectric<F>(c, ray, m, sp, depth, weight, medium);
+      else
+        return Vec3(0.0f);
+    case MaterialClass::kPolished:
+      return shade_polished<F>(c, ray, m, sp, depth, weight, medium);
+  }
+  return Vec3(0.0f);
+}
+
+template <uint32_t F>
+Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
+                const Vec3& weight, const Material* medium, Hit* first_hit,
+                SurfacePoint* first_point) {
+  const Scene& scene = c.scene;
+  Hit hit;
+  const bool found = scene.accel.intersect(ray, hit);
+  if (first_hit) *first_hit = hit;
+  if (!found) {
+    Vec3 bg = scene.settings.background;
+    // An escaping ray inside an absorbing medium travels forever: exp(-kappa inf) = 0.
+    if constexpr ((F & kShadeAbsorption) != 0)
+      if (medium)
+        for (int k = 0; k < 3; ++k)
+          if (medium->extinction[k] > 0.0f) bg[k] = 0.0f;
+    return bg;
+  }
+  const SurfacePoint sp = surface_point(scene.geometry, ray, hit);
+  if (first_point) *first_point = sp;
+  if constexpr ((F & kShadeAbsorption) == 0) {
+    // No absorbing medium in the scene: light is never attenuated between surfaces.
+    return shade_surface_path<F>(c, ray, sp, depth, weight, medium);
+  } else {
+    if (!medium || max_component(medium->extinction) <= 0.0f)
+      return shade_surface_path<F>(c, ray, sp, depth, weight, medium);
+    // Light travelling inside a dielectric decays as exp(-kappa t), t the distance between the
+    // two surface points (not hit.t, which starts at the offset origin).
+    const float t = glm::length(sp.p - start);
+    const Vec3 attenuation(std::exp(-medium->extinction.x * t),
+                           std::exp(-medium->extinction.y * t),
+                           std::exp(-medium->extinction.z * t));
+    const Vec3 w = weight * attenuation;
+    // Prune a branch the medium has already dimmed below the threshold.
+    const float wmax = max_component(w);
+    if (wmax <= 0.0f || wmax < c.min_weight) return Vec3(0.0f);
+    return attenuation * shade_surface_path<F>(c, ray, sp, depth, w, medium);
+  }
+}
+
+// One entry per shading path, indexed by its ShadeBits.
+using TraceFn = Vec3 (*)(const ShadeContext&, const Ray&, const Vec3&, int, const Vec3&,
+                         const Material*, Hit*, SurfacePoint*);
+using ShadeFn = Vec3 (*)(const ShadeContext&, const Ray&, const SurfacePoint&, int, const Vec3&,
+                         const Material*);
+template <size_t... I>
+constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::index_sequence<I...>) {
+  return {&trace_from<uint32_t(I)>...};
+}
+template <size_t... I>
+constexpr std::array<ShadeFn, sizeof...(I)> shade_table(std::index_sequence<I...>) {
+  return {&shade_surface_path<uint32_t(I)>...};
+}
+constexpr auto kTracePaths = trace_table(std::make_index_sequence<kShadePaths>{});
+constexpr auto kShadePathFns = shade_table(std::make_index_sequence<kShadePaths>{});
 
 }  // namespace
 
@@ -207,57 +323,23 @@ FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0) {
 
 Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
                    const Vec3& weight, const Material* medium) {
-  const Material& m = scene.materials[sp.material];
-  switch (m.cls) {
-    case MaterialClass::kDiffuse:
-      return shade_diffuse(scene, m, sp);
-    case MaterialClass::kMetal:
-      return shade_metal(scene, ray, m, sp, depth, weight, medium);
-    case MaterialClass::kDielectric:
-      return shade_dielectric(scene, ray, m, sp, depth, weight, medium);
-    case MaterialClass::kPolished:
-      return shade_polished(scene, ray, m, sp, depth, weight, medium);
-  }
-  return Vec3(0.0f);
+  return kShadePathFns[shade_path(scene) % kShadePaths](make_context(scene), ray, sp, depth,
+                                                        weight, medium);
 }
-
-namespace {
-
-Vec3 trace_from(const Scene& scene, const Ray& ray, const Vec3& start, int depth,
-                const Vec3& weight, const Material* medium, Hit* first_hit,
-                SurfacePoint* first_point) {
-  Hit hit;
-  const bool found = scene.accel.intersect(ray, hit);
-  if (first_hit) *first_hit = hit;
-  if (!found) {
-    // An escaping ray inside an absorbing medium travels forever: exp(-kappa inf) = 0.
-    Vec3 bg = scene.settings.background;
-    if (medium)
-      for (int c = 0; c < 3; ++c)
-        if (medium->extinction[c] > 0.0f) bg[c] = 0.0f;
-    return bg;
-  }
-  const SurfacePoint sp = surface_point(scene.geometry, ray, hit);
-  if (first_point) *first_point = sp;
-  if (!medium || max_component(medium->extinction) <= 0.0f)
-    return shade_surface(scene, ray, sp, depth, weight, medium);
-  // Light travelling inside a dielectric decays as exp(-kappa t), t the distance between the
-  // two surface points (not hit.t, which starts at the offset origin).
-  const float t = glm::length(sp.p - start);
-  const Vec3 attenuation(std::exp(-medium->extinction.x * t), std::exp(-medium->extinction.y * t),
-                         std::exp(-medium->extinction.z * t));
-  const Vec3 w = weight * attenuation;
-  // Prune a branch the medium has already dimmed below the threshold.
-  const float wmax = max_component(w);
-  if (wmax <= 0.0f || wmax < scene.settings.min_contribution) return Vec3(0.0f);
-  return attenuation * shade_surface(scene, ray, sp, depth, w, medium);
-}
-
-}  // namespace
 
 Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
                     const Material* medium, Hit* first_hit, SurfacePoint* first_point) {
-  return trace_from(scene, ray, ray.org, depth, weight, medium, first_hit, first_point);
+  // A medium handed in from outside needs the refraction and absorption code.
+  const uint32_t path =
+      shade_path(scene) | (medium ? kShadeRefraction | kShadeAbsorption : 0u);
+  return trace_radiance_path(scene, path, ray, depth, weight, medium, first_hit, first_point);
+}
+
+Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
+                         const Vec3& weight, const Material* medium, Hit* first_hit,
+                         SurfacePoint* first_point) {
+  return kTracePaths[path % kShadePaths](make_context(scene), ray, ray.org, depth, weight, medium,
+                                         first_hit, first_point);
 }
 
 }  // namespace frameless

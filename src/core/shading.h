@@ -37,6 +37,12 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
                     const Material* medium, Hit* first_hit = nullptr,
                     SurfacePoint* first_point = nullptr);
 
+// trace_radiance on a given shading path (ShadeBits, core/scene_analysis.h): trace_sample picks
+// the path once per sample. A path must keep every bit the scene needs (shade_path does).
+Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
+                         const Vec3& weight, const Material* medium, Hit* first_hit = nullptr,
+                         SurfacePoint* first_point = nullptr);
+
 // Equation 1/2 at one surface point seen along ray (the hit already found), with recursion.
 Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
                    const Vec3& weight, const Material* medium);

@@ -1,6 +1,8 @@
 // Names and range checks of the engine settings.
 #include "frameless/engine_config.h"
 
+#include "frameless/adaptive.h"
+
 namespace frameless {
 
 const char* to_string(RenderMode mode) {
@@ -20,6 +22,7 @@ std::string validate(const EngineConfig& c) {
   if (c.chunk_size < 1) return "chunk_size: must be at least 1";
   if (!(c.update_percent >= 0.01 && c.update_percent <= 100.0))
     return "update_percent: must be 0.01..100";
+  if (std::string a = validate(c.adaptive); !a.empty()) return a;
   return "";
 }
 

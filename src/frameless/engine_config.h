@@ -26,6 +26,18 @@ struct SampleShader {
   const void* context = nullptr;  // passed back to fn
 };
 
+// Adaptive frameless sampling (after Dayal et al. 2005; docs/adaptive.md). While a pixel's camera
+// epoch is current and its running mean has converged, its owner skips it, so the thread's
+// samples go to pixels that are still noisy or changed. Frameless mode only; default off.
+struct AdaptiveConfig {
+  bool enabled = false;          // off: every visit renders (the plain frameless loop)
+  uint32_t min_samples = 8;      // never skip a pixel with fewer samples in its current epoch
+  float rel_error = 0.02f;       // converged: standard error of the mean luminance below
+  float abs_error = 2e-3f;       //   rel_error * mean luminance + abs_error
+  uint32_t max_skips = 7;        // at most this many skips in a row: every pixel is rendered at
+                                 // least once per max_skips + 1 sweeps of its thread (1..255)
+};
+
 struct EngineConfig {
   int width = 640;                  // image width in pixels (1..16384)
   int height = 480;                 // image height in pixels (1..16384)
@@ -37,13 +49,19 @@ struct EngineConfig {
   PixelOrder order = PixelOrder::hilbert_shuffled;  // see PixelOrder
   bool jitter = true;               // frameless antialiasing: 2 of 4 stratified positions per update;
                                     // false: one sample at the pixel centre per update
-  bool track_variance = true;       // keep per-pixel luminance variance (the m2 field)
+  bool track_variance = false;      // keep per-pixel luminance variance (the m2 field); on only
+                                    // where something reads it: the viewer, a variance capture
+                                    // layer; adaptive sampling turns it on by itself
   bool deterministic = false;       // virtual clock: nothing renders except inside Engine::advance()
   uint64_t samples_per_tick = 0;    // deterministic: samples per advance() over all threads, dealt in
                                     // proportion to pixel counts; 0 = pixels x samples_per_update / 8
   size_t update_log_capacity = 0;   // per-thread update-log records (0 = off, no cost)
   SampleShader shader;              // null fn: the core's trace_sample
+  AdaptiveConfig adaptive;          // adaptive frameless sampling (off by default)
 };
+
+// Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.
+inline bool tracks_variance(const EngineConfig& c) { return c.track_variance || c.adaptive.enabled; }
 
 // Samples taken per pixel update: 2 with jitter (frameless antialiasing), 1 without.
 inline int samples_per_update(const EngineConfig& c) { return c.jitter ? 2 : 1; }

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "frameless/adaptive.h"
 #include "frameless/camera_channel.h"
 #include "frameless/conventional_jobs.h"
 #include "frameless/engine.h"
@@ -35,6 +36,7 @@ struct FramelessWorker {
   uint32_t epoch = 0;          // camera epoch in use
   CameraBasis basis;           // camera in use
   UpdateLog* log = nullptr;    // null when logging is off
+  AdaptiveWorkerState adaptive;  // adaptive sampling: consecutive skips per list position
 };
 
 // Conventional frames: render side writes `back`, publishes by exchanging it with `middle`;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/rng.h"
+#include "frameless/adaptive.h"
 #include "frameless/engine_impl.h"
 #include "frameless/running_stats.h"
 #include "frameless/tile_render.h"
@@ -64,13 +65,13 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, const CameraBasis& basis
   uint32_t count = same_epoch ? p.count.load(std::memory_order_relaxed) : 0u;
   double mean[3], m2 = 0.0;
   for (int c = 0; c < 3; ++c) mean[c] = same_epoch ? p.mean[c].load(std::memory_order_relaxed) : 0.0;
-  if (same_epoch && e.cfg.track_variance) m2 = p.m2.load(std::memory_order_relaxed);
+  if (same_epoch && tracks_variance(e.cfg)) m2 = p.m2.load(std::memory_order_relaxed);
   Vec3 sum(0.0f);
   for (int k = 0; k < valid; ++k) {
     const Vec3& s = colors[k];
     sum += s;
     if (count != 0xffffffffu) ++count;  // saturates: the mean then becomes a slow moving average
-    if (e.cfg.track_variance) {
+    if (tracks_variance(e.cfg)) {
       const double lum_mean = 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2];
       const double lum = 0.2126 * s.x + 0.7152 * s.y + 0.0722 * s.z;
       for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
@@ -116,19 +117,27 @@ void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
   epoch = ep;
 }
 
-template <bool kCustom>
+template <bool kCustom, bool kAdaptive>
 void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
   const std::vector<uint32_t>& list = *w.pixels;
   const size_t n = list.size();
   if (n == 0) return;
   ThreadCounters& ctr = e.counters[w.index];
-  for (uint64_t i = 0; i < count; ++i) {
+  for (uint64_t i = 0; i < count;) {  // i counts rendered updates (adaptive skips do not count)
     if (--w.countdown == 0) {
       w.countdown = w.interval;
       refresh_camera(e, w.epoch, w.basis);
     }
     const uint32_t idx = list[w.pos];
     if (++w.pos == n) w.pos = 0;
+    // Adaptive sampling (frameless/adaptive.h): a converged pixel's visit renders nothing; the
+    // visit counter still advances so the display's cursor arithmetic holds.
+    if constexpr (kAdaptive)
+      if (adaptive_skip(e.cfg.adaptive, e.pixels[idx], w.epoch,
+                        w.adaptive.skip_run[(w.pos == 0 ? n : w.pos) - 1])) {
+        ctr.updates.store(++w.updates, std::memory_order_release);
+        continue;
+      }
     const float time = float(t_begin + dt * double(i));
     update_pixel<kCustom>(e, idx, w.basis, w.epoch, time, ctr, nullptr);
     if (w.log) {
@@ -139,16 +148,24 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
     }
     // The display derives which pixels changed from this counter: publish after the pixel.
     ctr.updates.store(++w.updates, std::memory_order_release);
+    ++i;
   }
 }
 
 }  // namespace
 
 void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
-  if (e.cfg.shader.fn)
-    run_visits<true>(e, w, count, t_begin, dt);
-  else
-    run_visits<false>(e, w, count, t_begin, dt);
+  if (e.cfg.adaptive.enabled) {
+    if (w.adaptive.skip_run.size() != w.pixels->size()) w.adaptive.skip_run.assign(w.pixels->size(), 0);
+    if (e.cfg.shader.fn)
+      run_visits<true, true>(e, w, count, t_begin, dt);
+    else
+      run_visits<false, true>(e, w, count, t_begin, dt);
+  } else if (e.cfg.shader.fn) {
+    run_visits<true, false>(e, w, count, t_begin, dt);
+  } else {
+    run_visits<false, false>(e, w, count, t_begin, dt);
+  }
 }
 
 void frameless_thread_main(Engine::Impl& e, int t) {

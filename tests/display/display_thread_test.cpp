@@ -110,7 +110,9 @@ TEST(DisplayThread, ConventionalShowsOnlyCompletedFrames) {
 }
 
 TEST(DisplayThread, StillImageShowsTheRunningMean) {
-  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  EngineConfig c = deterministic_config(RenderMode::frameless, 1);
+  c.track_variance = true;  // off by default: this test reads it
+  Engine e(Scene{}, c, camera_at(0));
   DisplayThread d(e, {});
   for (int k = 0; k < 40; ++k) d.step();
   const DisplayImage& img = d.acquire_latest();

@@ -126,6 +126,7 @@ TEST(Engine, StillCameraConvergesAndMovingCameraRestarts) {
   EngineConfig c = test_config(16, 16, 2, noisy_shader);
   c.deterministic = true;
   c.samples_per_tick = 256 * 2;  // one sweep per tick
+  c.track_variance = true;       // off by default: this test reads it
   Engine e(Scene{}, c, camera_at(0));
   for (int k = 0; k < 50; ++k) e.advance(0.01);
   PixelSnapshot p;

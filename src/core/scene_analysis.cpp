@@ -1,0 +1,92 @@
+// Scene analysis and shading-path choice (docs/adaptive.md, "Skip what a scene doesn't need").
+#include "core/scene_analysis.h"
+
+namespace frameless {
+
+namespace {
+
+float r0_of_ior(float ior) {
+  const float r = (ior - 1.0f) / (ior + 1.0f);
+  return r * r;
+}
+
+}  // namespace
+
+SceneFeatures analyse_scene(const Scene& scene) {
+  SceneFeatures f;
+  // A black light adds nothing and casts no visible shadow (s l_e = 0 either way): not a light.
+  for (const Light& l : scene.lights) f.has_lights |= glm::dot(l.color, l.color) > 0.0f;
+  f.has_spheres = !scene.geometry.spheres.empty();
+  f.has_triangles = !scene.geometry.triangles.empty();
+  f.has_vertex_normals = !scene.geometry.normals.empty();
+  f.has_ambient = scene.ambient.kind != AmbientKind::kNone;
+  for (const Material& m : scene.materials) {
+    const bool dielectric = m.cls == MaterialClass::kDielectric;
+    f.has_dielectric |= dielectric;
+    f.has_absorption |= dielectric && glm::dot(m.extinction, m.extinction) > 0.0f;
+    f.has_reflection |= m.cls != MaterialClass::kDiffuse;
+    f.has_highlights |= m.cls != MaterialClass::kDiffuse && glm::dot(m.kh, m.kh) > 0.0f;
+    f.has_highlights |= m.cls == MaterialClass::kMetal && glm::dot(m.ks, m.ks) > 0.0f;
+  }
+  f.has_textures = false;
+  return f;
+}
+
+uint32_t shade_path(const SceneFeatures& f, const SkipConfig& skips) {
+  uint32_t bits = kShadeAll;
+  if (skips.shadows && !f.has_lights) bits &= ~kShadeLights;
+  if (skips.refraction && !f.has_dielectric) bits &= ~(kShadeRefraction | kShadeAbsorption);
+  if (skips.refraction && !f.has_absorption) bits &= ~kShadeAbsorption;
+  // Without lights no lobe is ever evaluated, so the highlight code goes with the light loop.
+  if (skips.highlights && (!f.has_highlights || !(bits & kShadeLights))) bits &= ~kShadeHighlights;
+  return bits;
+}
+
+bool apply_scene_variant(Scene& scene, const std::string& variant) {
+  if (variant == "no-lights") {
+    scene.lights.clear();
+  } else if (variant == "no-dielectric") {
+    for (Material& m : scene.materials)
+      if (m.cls == MaterialClass::kDielectric) {
+        m.cls = MaterialClass::kPolished;
+        m.kd = Vec3(0.6f);
+        m.r0 = Vec3(r0_of_ior(m.ior));
+      }
+  } else if (variant == "no-highlights") {
+    for (Material& m : scene.materials) {
+      m.kh = Vec3(0.0f);
+      if (m.cls == MaterialClass::kMetal) {
+        m.cls = MaterialClass::kPolished;  // a metal's highlight is its ks: keep a mirror coat
+        m.kd = 0.5f * m.ks;
+        m.r0 = m.ks;
+      }
+    }
+  } else {
+    return false;
+  }
+  scene.name += "/" + variant;
+  finalize_scene(scene);
+  return true;
+}
+
+void translate_scene(Scene& scene, const Vec3& offset) {
+  for (Vec3& p : scene.geometry.positions) p += offset;
+  for (Sphere& s : scene.geometry.spheres) s.center += offset;
+  for (Light& l : scene.lights) l.position += offset;
+  scene.camera.eye += offset;
+  scene.camera.look += offset;
+  finalize_scene(scene);
+}
+
+std::string describe_shade_path(uint32_t path) {
+  std::string s;
+  const char* names[] = {"lights", "refraction", "absorption", "highlights"};
+  for (int b = 0; b < 4; ++b)
+    if (path & (1u << b)) {
+      if (!s.empty()) s += '+';
+      s += names[b];
+    }
+  return s.empty() ? "minimal" : s;
+}
+
+}  // namespace frameless
