@@ -30,7 +30,7 @@ struct AblationArgs {
   std::string scene = "default";
   std::string size = "320x180";
   int threads = 0;
-  int spp = 2;
+  int spp = 8;
   int repeats = 5;
   double seconds = 1.0;
   bool json = false;
@@ -38,7 +38,7 @@ struct AblationArgs {
 };
 
 struct Row {
-  std::string skip, scene, path_on, path_off, timing, check;
+  std::string skip, scene, path_on, path_off, code_on, code_off, timing, check;
   double on = 0, off = 0;  // seconds (or seconds per sample) with the skip on / off
   double saved = 0;        // 1 - on / off
   bool exact = false;      // bit-identical images expected
@@ -51,10 +51,30 @@ void note(const std::string& what) {
   if (show_progress()) std::fprintf(stderr, "bench ablation: %s...\n", what.c_str());
 }
 
+// Compact form of a shading path for the table: L(ights) R(efraction) A(bsorption) H(ighlights).
+std::string path_code(uint32_t path) {
+  std::string s = "----";
+  const char* letters = "LRAH";
+  for (int b = 0; b < 4; ++b)
+    if (path & (1u << b)) s[size_t(b)] = letters[b];
+  return s;
+}
+
 double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// "model name" of the first CPU in /proc/cpuinfo (empty when unknown).
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0) {
+      const size_t colon = line.find(':');
+      return colon == std::string::npos ? "" : line.substr(std::min(line.size(), colon + 2));
+    }
+  return "";
 }
 
 double median(std::vector<double> v) {
@@ -96,17 +116,19 @@ Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(S
   off(off_cfg);
   r.path_on = describe_shade_path(shade_path(s.features, on_cfg));
   r.path_off = describe_shade_path(shade_path(s.features, off_cfg));
+  r.code_on = path_code(shade_path(s.features, on_cfg));
+  r.code_off = path_code(shade_path(s.features, off_cfg));
   std::vector<double> t_on, t_off;
   std::vector<float> img_on, img_off;
   double t = 0;
-  for (int k = 0; k < std::max(1, a.repeats); ++k) {
-    s.settings.skips = on_cfg;
-    img_on = render_timed(s, w, h, a.spp, t);
-    t_on.push_back(t);
-    s.settings.skips = off_cfg;
-    img_off = render_timed(s, w, h, a.spp, t);
-    t_off.push_back(t);
-  }
+  // On and off alternate, and which goes first alternates too (no order bias).
+  for (int k = 0; k < std::max(1, a.repeats); ++k)
+    for (int j = 0; j < 2; ++j) {
+      const bool on = (j == 0) == (k % 2 == 0);
+      s.settings.skips = on ? on_cfg : off_cfg;
+      (on ? img_on : img_off) = render_timed(s, w, h, a.spp, t);
+      (on ? t_on : t_off).push_back(t);
+    }
   s.settings.skips = on_cfg;
   r.on = median(t_on);
   r.off = median(t_off);
@@ -139,8 +161,8 @@ Row variance_row(const Scene& s, const EngineConfig& base, const AblationArgs& a
   r.skip = "variance";
   r.scene = s.name;
   r.timing = "engine s per M samples";
-  r.path_on = "no M2";
-  r.path_off = "Welford M2";
+  r.path_on = r.code_on = "no M2";
+  r.path_off = r.code_off = "M2";
   std::vector<double> t_on, t_off;
   for (int k = 0; k < std::max(1, a.repeats / 2); ++k)
     for (bool track : {false, true}) {
@@ -229,13 +251,15 @@ double denormal_loop_seconds(bool ftz) {
     volatile float tiny_in = 1e-40f;  // subnormal; volatile so the loop is not folded
     const float tiny = tiny_in;
     const double t0 = thread_cpu_seconds();
-    for (int rep = 0; rep < 2000; ++rep) {
+    for (int rep = 0; rep < 20000; ++rep) {
       float x[64];
       for (int i = 0; i < 64; ++i) x[i] = 1e-38f * float(i + 1);
       // Converges to 2e-40 and stays subnormal; with DAZ `tiny` reads as 0 and x flushes to 0.
       for (int step = 0; step < 200; ++step)
         for (int i = 0; i < 64; ++i) x[i] = x[i] * 0.5f + tiny;
-      sink = sink + x[7];
+      float sum = 0;
+      for (int i = 0; i < 64; ++i) sum += x[i];
+      sink = sink + sum;
     }
     seconds = thread_cpu_seconds() - t0;
   });
@@ -248,13 +272,14 @@ void print_table(FILE* out, const nlohmann::json& j, const std::vector<Row>& row
   std::fprintf(out, "ablation: scene %s, %s, %d spp per timed image, %d threads for the engine\n",
                j["scene"].get<std::string>().c_str(), j["size"].get<std::string>().c_str(),
                j["spp"].get<int>(), j["threads"].get<int>());
-  std::fprintf(out, "%-11s %-24s %-34s %10s %10s %7s  %s\n", "skip", "scene", "path on -> off",
+  std::fprintf(out, "%-11s %-22s %-14s %9s %9s %7s  %s\n", "skip", "scene", "path on->off",
                "on", "off", "saved", "image check");
   for (const Row& r : rows)
-    std::fprintf(out, "%-11s %-24s %-34s %10.4f %10.4f %6.1f%%  %s: %s (RMSE %.2e)\n",
-                 r.skip.c_str(), r.scene.c_str(), (r.path_on + " -> " + r.path_off).c_str(), r.on,
+    std::fprintf(out, "%-11s %-22s %-14s %9.4f %9.4f %6.1f%%  %s: %s (RMSE %.2e)\n",
+                 r.skip.c_str(), r.scene.c_str(), (r.code_on + "->" + r.code_off).c_str(), r.on,
                  r.off, 100.0 * r.saved, r.check.c_str(), r.pass ? "pass" : "FAIL", r.rmse);
-  std::fprintf(out, "timings: per-sample rows in 1-thread CPU seconds per image; variance in engine "
+  std::fprintf(out, "paths: L lights, R refraction, A absorption, H highlights compiled in; timings: "
+                    "per-sample rows in 1-thread CPU seconds per image (median), variance in engine "
                     "seconds per million samples\n");
   std::fprintf(out,
                "adaptive vs plain (deterministic, equal budget of %llu samples): RMSE %.5f vs %.5f; "
@@ -324,6 +349,7 @@ int run_ablation(const AblationArgs& a) {
     j["threads"] = ec.threads;
     j["hardware_threads"] = hardware_threads();
     j["build"] = "Release -O3 -march=native";
+    j["cpu"] = cpu_model();
     for (const Row& r : rows)
       j["skips"].push_back({{"skip", r.skip}, {"scene", r.scene}, {"path_on", r.path_on},
                             {"path_off", r.path_off}, {"timing", r.timing}, {"on", r.on},
@@ -374,7 +400,7 @@ const bool registered = register_command(
       app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
       app.add_option("--size", args->size, "Image size WxH (default 320x180)");
       app.add_option("--threads", args->threads, "Engine render threads (default: all hardware threads)");
-      app.add_option("--spp", args->spp, "Samples per pixel of each timed one-shot image (default 2)");
+      app.add_option("--spp", args->spp, "Samples per pixel of each timed one-shot image (default 8)");
       app.add_option("--repeats", args->repeats, "Timed repetitions, on and off alternating; the median is reported (default 5)");
       app.add_option("--seconds", args->seconds, "Seconds per engine throughput measurement (default 1)");
       app.add_flag("--json", args->json, "Print JSON instead of the table");
