@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 #include "frameless/adaptive.h"
@@ -207,6 +209,32 @@ TEST(Adaptive, SkipDecisionBoundsConsecutiveSkips) {
   p.m2.store(99.0 * 100.0);  // standard error 1 >> tolerance
   EXPECT_FALSE(adaptive_skip(a, p, 3, run_length));
   EXPECT_FALSE(converged(a, 100, 0.5, std::numeric_limits<double>::quiet_NaN()));
+}
+
+// Wall-clock threads with adaptive sampling (the path TSan checks): every pixel is reached, the
+// flat half ends up with fewer samples, nothing is dropped. Runs until enough samples were
+// traced (no timing assert; the cap only stops a hang).
+TEST(Adaptive, WallClockThreadsSkipAndCoverEveryPixel) {
+  EngineConfig c = adaptive_config(true);
+  c.deterministic = false;
+  c.update_log_capacity = 0;
+  Engine e(Scene{}, c, camera_at(0));
+  e.start();
+  for (int k = 0; k < 20000 && e.stats().samples < 100000; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  e.stop();
+  ASSERT_FALSE(e.error());
+  ASSERT_GE(e.stats().samples, 100000u);
+  EXPECT_EQ(e.stats().dropped, 0u);
+  RunResult r;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      PixelSnapshot p;
+      ASSERT_TRUE(e.read_pixel(x, y, p));
+      EXPECT_EQ(p.epoch, 1u);
+      r.count.push_back(p.count);
+    }
+  EXPECT_LT(mean_count(r, false), 0.5 * mean_count(r, true));
 }
 
 TEST(Adaptive, InvalidSettingsAreRejected) {
