@@ -107,6 +107,7 @@ int run_error(ErrorArgs a) {
     CsvTable csv;
     csv.header = {"mode", "t_s", "samples_per_pixel", "rmse", "rel_mse", "rmse_debiased"};
     std::string dat;
+    double guide_rmse_at_1spp = 0;
     for (const LiveMode& mode : modes) {
       bench_progress("error", mode.name + " for " + csv_number(a.seconds) + " s");
       const LiveResult r = run_live(*scene, mode, sched);
@@ -131,6 +132,7 @@ int run_error(ErrorArgs a) {
       dat += "# " + mode.name + "\n";
       for (const TickRecord& t : r.ticks) {
         const double spp = double(t.samples) / double(pixels);
+        if (guide_rmse_at_1spp == 0 && spp >= 16) guide_rmse_at_1spp = t.rmse * std::sqrt(spp);
         csv.rows.push_back({mode.name, csv_number(t.t), csv_number(spp), csv_number(t.rmse),
                             csv_number(t.rel_mse), csv_number(t.rmse_debiased)});
         if (t.samples > 0)
@@ -166,10 +168,8 @@ int run_error(ErrorArgs a) {
       body += ", '" + a.out + "/error.dat' index " + std::to_string(k) + " using 1:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" + modes[k].name + "'";
     body += "\nset title 'RMSE vs samples per pixel (dashed: 1/sqrt(n))'\nset xlabel 'samples per pixel'\n";
     body += "plot " + csv_number(std::sqrt(ref->noise_mse)) + " dt 3 lc rgb 'gray50' notitle";
-    // Guide anchored at the first scored frameless tick: RMSE falls as 1/sqrt(samples).
-    double r1 = 0.1, t = 0, spp = 0, rmse = 0;
-    if (std::sscanf(dat.c_str() + dat.find('\n') + 1, "%lf %lf %lf", &t, &spp, &rmse) == 3 && spp > 0)
-      r1 = rmse * std::sqrt(spp);
+    // Guide through the first mode's RMSE at 16 samples per pixel: RMSE falls as 1/sqrt(samples).
+    const double r1 = guide_rmse_at_1spp > 0 ? guide_rmse_at_1spp : 0.1;
     body += ", " + csv_number(r1) + "/sqrt(x) dt 2 lc rgb 'gray30' title '1/sqrt(n)'";
     for (size_t k = 0; k < modes.size(); ++k)
       body += ", '" + a.out + "/error.dat' index " + std::to_string(k) + " using 2:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" + modes[k].name + "'";

@@ -2,6 +2,7 @@
 // rate; at every display refresh the displayed image is scored against the converged image for the
 // camera in effect at that instant (references rendered up front, cached). Frameless at several
 // alpha and update percentages, conventional double buffering on the same threads, and adaptive.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -34,6 +35,7 @@ struct MotionArgs {
   double alpha = 0.5;         // default setting (the headline frameless value)
   double percent = 1;
   int ref_spp = 32;
+  int repeats = 2;
   bool quick = false;
 };
 
@@ -42,6 +44,7 @@ struct RunRow {
   double alpha = 0, percent = 0;
   LiveResult result;
   double avg_rmse = 0, avg_rmse_debiased = 0, avg_rel_mse = 0, tail_rmse = 0;
+  std::vector<double> per_repeat;  // time-averaged RMSE of each repeat
 };
 
 int run_motion(MotionArgs a) {
@@ -54,6 +57,7 @@ int run_motion(MotionArgs a) {
     a.ref_spp = 8;
     a.alphas = {0.5, 1.0};
     a.percents = {1, 10};
+    a.repeats = 1;
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
@@ -71,6 +75,7 @@ int run_motion(MotionArgs a) {
   for (double p : a.percents)
     if (!(p >= 0.01 && p <= 100)) return report_error("--update-percents: each must be in [0.01, 100]");
   if (a.ref_spp < 2 || a.ref_spp > 1 << 20) return report_error("--ref-spp: must be in [2, 1048576]");
+  if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be in [1, 100]");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
   if (!scene) return 2;
@@ -162,16 +167,24 @@ int run_motion(MotionArgs a) {
     CsvTable csv;
     csv.header = {"run", "kind", "alpha", "update_percent", "t_s", "pose", "rmse", "rel_mse", "rmse_debiased", "coverage"};
     std::string dat;
+    // Repeats interleave the settings, so a change in the machine's load hits all of them alike;
+    // time averages are means over repeats, the curves and CSV come from the first repeat.
+    for (int rep = 0; rep < a.repeats; ++rep) {
+      for (RunRow& r : rows) {
+        bench_progress("motion", r.mode.name + " (repeat " + std::to_string(rep + 1) + ")");
+        LiveResult res = run_live(*scene, r.mode, sched);
+        const auto& ticks = res.ticks;
+        r.avg_rmse += time_average(ticks, t0, t1, &TickRecord::rmse) / a.repeats;
+        r.avg_rmse_debiased += time_average(ticks, t0, t1, &TickRecord::rmse_debiased) / a.repeats;
+        r.avg_rel_mse += time_average(ticks, t0, t1, &TickRecord::rel_mse) / a.repeats;
+        r.tail_rmse += time_average(ticks, t1, sched.duration, &TickRecord::rmse) / a.repeats;
+        r.per_repeat.push_back(time_average(ticks, t0, t1, &TickRecord::rmse));
+        if (rep == 0) r.result = std::move(res);
+      }
+    }
     for (RunRow& r : rows) {
-      bench_progress("motion", r.mode.name);
-      r.result = run_live(*scene, r.mode, sched);
-      const auto& ticks = r.result.ticks;
-      r.avg_rmse = time_average(ticks, t0, t1, &TickRecord::rmse);
-      r.avg_rmse_debiased = time_average(ticks, t0, t1, &TickRecord::rmse_debiased);
-      r.avg_rel_mse = time_average(ticks, t0, t1, &TickRecord::rel_mse);
-      r.tail_rmse = time_average(ticks, t1, sched.duration, &TickRecord::rmse);
       dat += "# " + r.mode.name + "\n";
-      for (const TickRecord& t : ticks) {
+      for (const TickRecord& t : r.result.ticks) {
         csv.rows.push_back({r.mode.name, r.mode.kind, csv_number(r.alpha), csv_number(r.percent),
                             csv_number(t.t), std::to_string(t.pose), csv_number(t.rmse),
                             csv_number(t.rel_mse), csv_number(t.rmse_debiased), csv_number(t.coverage)});
@@ -187,6 +200,7 @@ int run_motion(MotionArgs a) {
         {"path", {{"orbit_deg", a.orbit}, {"dolly_factor", a.dolly}, {"poses", poses.size()}}},
         {"reference_spp", a.ref_spp}, {"alphas", a.alphas}, {"update_percents", a.percents},
         {"default_alpha", a.alpha}, {"default_update_percent", a.percent}, {"quick", a.quick},
+        {"repeats", a.repeats},
         {"clock", "wall (real Engine + DisplayThread)"},
         {"averaging", "time average over the move [hold, hold + move], each tick weighted by its interval"}};
     nlohmann::json j = bench_header("motion", scene.get(), a.scene, settings);
@@ -200,6 +214,7 @@ int run_motion(MotionArgs a) {
                        {"update_percent", r.percent}, {"time_avg_rmse", r.avg_rmse},
                        {"time_avg_rmse_debiased", r.avg_rmse_debiased},
                        {"time_avg_rel_mse", r.avg_rel_mse}, {"tail_avg_rmse", r.tail_rmse},
+                       {"time_avg_rmse_per_repeat", r.per_repeat},
                        {"samples_per_s", r.result.samples_per_s}, {"ticks", r.result.ticks.size()}});
       if (r.mode.kind == "frameless" && (!best || r.avg_rmse < best->avg_rmse)) best = &r;
     }
@@ -232,10 +247,15 @@ int run_motion(MotionArgs a) {
     if (!write_text_atomic(a.out + "/motion_avg.dat", bars, error)) return report_error(error);
     std::string body = "set multiplot layout 1,2\nset grid\n";
     body += "set title 'Moving camera: RMSE of each displayed image vs the converged image for that instant'\n";
-    body += "set xlabel 'seconds (camera moves between the dashed lines)'\nset ylabel 'RMSE'\nset key top left font ',8' opaque\nset offsets 0, 0, graph 0.3, 0\n";
+    body += "set xlabel 'seconds (camera moves between the dashed lines)'\nset ylabel 'RMSE'\nset key top left font ',8' opaque\n";
     body += "set arrow from " + csv_number(t0) + ", graph 0 to " + csv_number(t0) + ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
     body += "set arrow from " + csv_number(t1) + ", graph 0 to " + csv_number(t1) + ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
-    body += "set yrange [0:*]\nplot ";
+    // Scale the curves to the move (the initial fill of an empty screen would dwarf it).
+    double ymax = 0;
+    for (const RunRow& r : rows)
+      for (const TickRecord& t : r.result.ticks)
+        if (t.t >= t0) ymax = std::max(ymax, t.rmse);
+    body += "set yrange [0:" + csv_number(ymax > 0 ? 1.5 * ymax : 1.0) + "]\nplot ";
     for (size_t k = 0; k < rows.size(); ++k) {
       const bool key = k == 0 || rows[k].mode.kind != "frameless";
       body += (k ? ", " : "") + std::string("'") + a.out + "/motion.dat' index " + std::to_string(k) +
@@ -281,8 +301,9 @@ const bool registered = register_command(
       app.add_option("--alpha", args->alpha, "Default frameless alpha: the headline setting (default 0.5)");
       app.add_option("--update-percent", args->percent, "Default update percentage (default 1)");
       app.add_option("--ref-spp", args->ref_spp, "Reference samples per pixel per pose (default 32)");
+      app.add_option("--repeats", args->repeats, "Runs of every setting, interleaved; time averages are their mean (default 2)");
       app.add_option("--cache", args->cache, "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
-      app.add_flag("--quick", args->quick, "Smoke mode: 160x120, 1.5 s move, 8-spp references, fewer settings");
+      app.add_flag("--quick", args->quick, "Smoke mode: 160x120, 1.5 s move, 8-spp references, fewer settings, one repeat");
       return [args]() { return run_motion(*args); };
     });
 

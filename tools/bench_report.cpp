@@ -78,7 +78,11 @@ nlohmann::json describe_build() {
   const std::string commit =
       command_line_output("git -C '" + src + "' describe --always --dirty --abbrev=10 2>/dev/null");
   j["git"] = commit.empty() ? "unknown" : commit;
-  j["compiler"] = std::string("g++/clang ") + __VERSION__;
+#if defined(__clang__)
+  j["compiler"] = std::string("clang ") + __VERSION__;
+#else
+  j["compiler"] = std::string("g++ ") + __VERSION__;
+#endif
 #ifdef NDEBUG
   j["optimised"] = true;
 #else

@@ -154,7 +154,7 @@ int run_scaling(ScalingArgs a) {
     body += "plot x < " + std::to_string(cores) + " ? x : " + std::to_string(cores) +
             " dt 2 lc rgb 'gray40' title 'linear to the cores', '" + a.out +
             "/scaling.dat' using 1:2 with linespoints lw 2 title 'engine samples/s', '' using 1:3 with linespoints lw 2 title 'primary Mrays/s'\n";
-    body += "set title 'Efficiency against linear'\nset ylabel 'efficiency'\nset yrange [0:*]\n";
+    body += "set title 'Efficiency against linear'\nset ylabel 'efficiency (and CPU cores used)'\nset yrange [0:*]\nset key bottom left\n";
     body += "plot 1 dt 2 lc rgb 'gray40' notitle, '" + a.out + "/scaling.dat' using 1:4 with linespoints lw 2 title 'engine', '' using 1:5 with linespoints lw 2 title 'rays', '' using 1:6 with linespoints lw 2 dt 4 title 'engine per CPU-second', '' using 1:7 with points pt 7 title 'CPU cores used (engine)'\n";
     body += "unset multiplot";
     bool png = false;
