@@ -75,7 +75,8 @@ int run_all(const AllArgs& a) {
       {"scaling", with({"bench", "scaling"}, true, false)},
       {"scale", with({"bench", "scale", "--max-n", max_n}, false, false)},
   };
-  nlohmann::json summary = bench_header("all", nullptr, a.scene, {{"quick", a.quick}, {"max_n", a.max_n}});
+  nlohmann::json summary =
+      bench_header("all", nullptr, a.scene, {{"quick", a.quick}, {"max_n", a.max_n}});
   int failures = 0;
   for (const auto& [name, args] : runs) {
     bench_progress("all", name);
@@ -103,13 +104,17 @@ int run_all(const AllArgs& a) {
   if (l.is_object()) summary["latency"] = l.value("results", nlohmann::json());
   const nlohmann::json s = read_json(a.out + "/scaling.json");
   if (s.is_object() && s.contains("points")) {
-    for (const auto& p : s["points"])
+    for (const auto& p : s["points"]) {
       summary["scaling_efficiency"][std::to_string(p["threads"].get<int>())] = p["efficiency"];
+      summary["scaling_cpu_efficiency"][std::to_string(p["threads"].get<int>())] =
+          p["cpu_efficiency"];
+    }
   }
   const nlohmann::json sc = read_json(a.out + "/scale.json");
   if (sc.is_object()) summary["scale_fit"] = sc.value("fit", nlohmann::json());
   if (!write_json(a.out + "/summary.json", summary, error)) return report_error(error);
-  std::printf("bench all: wrote %s/summary.json (%d of %zu benchmarks failed)\n", a.out.c_str(), failures, runs.size());
+  std::printf("bench all: wrote %s/summary.json (%d of %zu benchmarks failed)\n", a.out.c_str(),
+              failures, runs.size());
   return failures ? 1 : 0;
 }
 
@@ -117,10 +122,17 @@ const bool registered = register_command(
     "bench", "all", "Runs error, motion, latency, scaling and scale into one directory",
     [](CLI::App& app) {
       auto args = std::make_shared<AllArgs>();
-      app.add_option("--out", args->out, "Output directory (NAME.json/csv/png per benchmark, summary.json)")->required();
-      app.add_option("--scene", args->scene, "Scene for error, motion, latency and scaling (default: default)");
-      app.add_option("--max-n", args->max_n, "Largest spheres:N for the scale benchmark (default 1e6; 3.5e7 for the full run)");
-      app.add_option("--cache", args->cache, "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
+      app.add_option("--out", args->out,
+                     "Output directory (NAME.json/csv/png per benchmark, summary.json)")
+          ->required();
+      app.add_option("--scene", args->scene,
+                     "Scene for error, motion, latency and scaling (default: default)");
+      app.add_option(
+          "--max-n", args->max_n,
+          "Largest spheres:N for the scale benchmark (default 1e6; 3.5e7 for the full run)");
+      app.add_option(
+          "--cache", args->cache,
+          "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
       app.add_flag("--quick", args->quick, "Smoke mode for every benchmark");
       return [args]() { return run_all(*args); };
     });

@@ -28,8 +28,10 @@ struct ErrorArgs {
   bool quick = false;
 };
 
-// Seconds until the RMSE first falls to `level` (and stays below it for the next tick); NaN if never.
-double time_to(const std::vector<TickRecord>& ticks, double level, bool samples_axis, size_t pixels) {
+// Seconds until the RMSE first falls to `level` (and stays below it for the next tick); NaN if
+// never.
+double time_to(const std::vector<TickRecord>& ticks, double level, bool samples_axis,
+               size_t pixels) {
   for (size_t i = 0; i + 1 < ticks.size(); ++i)
     if (ticks[i].rmse <= level && ticks[i + 1].rmse <= level)
       return samples_axis ? double(ticks[i].samples) / double(pixels) : ticks[i].t;
@@ -45,11 +47,13 @@ int run_error(ErrorArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (a.threads < 0 || a.threads > 1024)
+    return report_error("--threads: must be between 1 and 1024");
   if (!(a.seconds > 0 && a.seconds <= 3600)) return report_error("--seconds: must be in (0, 3600]");
   if (!(a.refresh >= 1 && a.refresh <= 240)) return report_error("--refresh: must be in [1, 240]");
   if (!(a.alpha > 0 && a.alpha <= 1)) return report_error("--alpha: must be in (0, 1]");
-  if (a.ref_spp < 2 || a.ref_spp > 1 << 20) return report_error("--ref-spp: must be in [2, 1048576]");
+  if (a.ref_spp < 2 || a.ref_spp > 1 << 20)
+    return report_error("--ref-spp: must be in [2, 1048576]");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
   if (!scene) return 2;
@@ -58,7 +62,8 @@ int run_error(ErrorArgs a) {
   const size_t pixels = size_t(width) * size_t(height);
 
   try {
-    bench_progress("error", "reference (" + std::to_string(a.ref_spp) + " spp, cached in " + cache + ")");
+    bench_progress("error",
+                   "reference (" + std::to_string(a.ref_spp) + " spp, cached in " + cache + ")");
     ReferenceSpec rs;
     rs.scene_id = scene_identity(a.scene);
     rs.code_version = code_version(*scene);
@@ -94,15 +99,22 @@ int run_error(ErrorArgs a) {
     const bool have_adaptive = enable_adaptive(ad.engine);
     if (have_adaptive) modes.push_back(ad);
 
-    nlohmann::json settings = {{"size", a.size}, {"threads", threads}, {"seconds", a.seconds},
-                               {"refresh_hz", a.refresh}, {"alpha", a.alpha},
+    nlohmann::json settings = {{"size", a.size},
+                               {"threads", threads},
+                               {"seconds", a.seconds},
+                               {"refresh_hz", a.refresh},
+                               {"alpha", a.alpha},
                                {"update_percent", base.engine.update_percent},
-                               {"reference_spp", a.ref_spp}, {"quick", a.quick},
+                               {"reference_spp", a.ref_spp},
+                               {"quick", a.quick},
                                {"clock", "wall (real Engine + DisplayThread)"}};
     nlohmann::json j = bench_header("error", scene.get(), a.scene, settings);
-    j["reference"] = {{"spp", a.ref_spp}, {"noise_rmse", std::sqrt(ref->noise_mse)},
-                      {"from_cache", ref->from_cache}, {"seconds", ref->seconds},
-                      {"file", ref->path}, {"key", reference_key_hash(rs)}};
+    j["reference"] = {{"spp", a.ref_spp},
+                      {"noise_rmse", std::sqrt(ref->noise_mse)},
+                      {"from_cache", ref->from_cache},
+                      {"seconds", ref->seconds},
+                      {"file", ref->path},
+                      {"key", reference_key_hash(rs)}};
     const std::vector<double> levels = {0.05, 0.02, 0.01, 0.005, 0.003, 0.002, 0.0015, 0.001};
     CsvTable csv;
     csv.header = {"mode", "t_s", "samples_per_pixel", "rmse", "rel_mse", "rmse_debiased"};
@@ -117,8 +129,11 @@ int run_error(ErrorArgs a) {
       mj["dropped_samples"] = r.dropped;
       if (!r.ticks.empty()) {
         const TickRecord& last = r.ticks.back();
-        mj["final"] = {{"t_s", last.t}, {"samples_per_pixel", double(last.samples) / double(pixels)},
-                       {"rmse", last.rmse}, {"rel_mse", last.rel_mse}, {"rmse_debiased", last.rmse_debiased}};
+        mj["final"] = {{"t_s", last.t},
+                       {"samples_per_pixel", double(last.samples) / double(pixels)},
+                       {"rmse", last.rmse},
+                       {"rel_mse", last.rel_mse},
+                       {"rmse_debiased", last.rmse_debiased}};
       }
       nlohmann::json tt = nlohmann::json::object(), ts = nlohmann::json::object();
       for (double l : levels) {
@@ -162,23 +177,31 @@ int run_error(ErrorArgs a) {
     body += "set format y '%g'\nset format x '%g'\n";
     body += "set title 'Still camera: RMSE of the displayed image vs wall time'\n";
     body += "set xlabel 'seconds since start'\nset ylabel 'RMSE vs reference'\n";
-    body += "set label 1 'reference noise floor' at graph 0.02, first " + csv_number(std::sqrt(ref->noise_mse) * 1.15) + "\n";
+    body += "set label 1 'reference noise floor' at graph 0.02, first " +
+            csv_number(std::sqrt(ref->noise_mse) * 1.15) + "\n";
     body += "plot " + csv_number(std::sqrt(ref->noise_mse)) + " dt 3 lc rgb 'gray50' notitle";
     for (size_t k = 0; k < modes.size(); ++k)
-      body += ", '" + a.out + "/error.dat' index " + std::to_string(k) + " using 1:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" + modes[k].name + "'";
-    body += "\nset title 'RMSE vs samples per pixel (dashed: 1/sqrt(n))'\nset xlabel 'samples per pixel'\n";
+      body += ", '" + a.out + "/error.dat' index " + std::to_string(k) +
+              " using 1:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" +
+              modes[k].name + "'";
+    body +=
+        "\nset title 'RMSE vs samples per pixel (dashed: 1/sqrt(n))'\nset xlabel 'samples per "
+        "pixel'\n";
     body += "plot " + csv_number(std::sqrt(ref->noise_mse)) + " dt 3 lc rgb 'gray50' notitle";
     // Guide through the first mode's RMSE at 16 samples per pixel: RMSE falls as 1/sqrt(samples).
     const double r1 = guide_rmse_at_1spp > 0 ? guide_rmse_at_1spp : 0.1;
     body += ", " + csv_number(r1) + "/sqrt(x) dt 2 lc rgb 'gray30' title '1/sqrt(n)'";
     for (size_t k = 0; k < modes.size(); ++k)
-      body += ", '" + a.out + "/error.dat' index " + std::to_string(k) + " using 2:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" + modes[k].name + "'";
+      body += ", '" + a.out + "/error.dat' index " + std::to_string(k) +
+              " using 2:3 with lines lw 2 lt " + std::to_string(k + 1) + " title '" +
+              modes[k].name + "'";
     body += "\nunset multiplot";
     bool png = false;
     if (!plot_png(a.out, "error", 1000, 400, body, error, &png)) return report_error(error);
     j["outputs"] = {{"csv", "error.csv"}, {"plot", png ? "error.png" : ""}};
     if (!write_json(a.out + "/error.json", j, error)) return report_error(error);
-    std::printf("bench error: %s %dx%d, %d threads, %.3g s per mode\n", a.scene.c_str(), width, height, threads, a.seconds);
+    std::printf("bench error: %s %dx%d, %d threads, %.3g s per mode\n", a.scene.c_str(), width,
+                height, threads, a.seconds);
     for (const LiveMode& m : modes) {
       const auto& f = j["modes"][m.kind]["final"];
       std::printf("  %-13s final RMSE %.4f  relMSE %.4g  at %.1f spp\n", m.kind.c_str(),
@@ -196,15 +219,19 @@ const bool registered = register_command(
     "bench", "error", "Static convergence: error of the displayed image vs time and samples",
     [](CLI::App& app) {
       auto args = std::make_shared<ErrorArgs>();
-      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
-      app.add_option("--out", args->out, "Output directory (error.json, error.csv, error.png)")->required();
+      app.add_option("scene", args->scene,
+                     "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("--out", args->out, "Output directory (error.json, error.csv, error.png)")
+          ->required();
       app.add_option("--size", args->size, "Image size WxH (default 320x240)");
       app.add_option("--threads", args->threads, "Render threads (default: all hardware threads)");
       app.add_option("--seconds", args->seconds, "Seconds per mode (default 10)");
       app.add_option("--refresh", args->refresh, "Display refresh in Hz (default 30)");
       app.add_option("--alpha", args->alpha, "Frameless blend weight (default 0.5)");
       app.add_option("--ref-spp", args->ref_spp, "Reference samples per pixel (default 512)");
-      app.add_option("--cache", args->cache, "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
+      app.add_option(
+          "--cache", args->cache,
+          "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
       app.add_flag("--quick", args->quick, "Smoke mode: 160x120, 3 s per mode, 64-spp reference");
       return [args]() { return run_error(*args); };
     });

@@ -42,7 +42,8 @@ LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule
     r.mse = e.mse;
     r.rmse = e.rmse;
     r.rel_mse = e.rel_mse;
-    r.rmse_debiased = std::sqrt(debiased_mse(e.mse, s.noise_mse.empty() ? 0.0 : s.noise_mse[size_t(r.pose)]));
+    r.rmse_debiased =
+        std::sqrt(debiased_mse(e.mse, s.noise_mse.empty() ? 0.0 : s.noise_mse[size_t(r.pose)]));
     std::lock_guard<std::mutex> lock(m);
     result.ticks.push_back(r);
   });
@@ -53,11 +54,13 @@ LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule
   for (size_t k = 1; k < s.poses.size(); ++k) {
     const double at = s.hold_seconds + double(k - 1) * s.pose_interval;
     if (at >= s.duration) break;
-    std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(at)));
+    std::this_thread::sleep_until(
+        t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(at)));
     std::lock_guard<std::mutex> lock(m);
     pose_of_epoch[engine.publish_camera(s.poses[k])] = int(k);
   }
-  std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s.duration)));
+  std::this_thread::sleep_until(
+      t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s.duration)));
   display.stop();
   const EngineStats s1 = engine.stats();
   engine.stop();

@@ -27,9 +27,9 @@ struct LiveSchedule {
   std::vector<Camera> poses;
   std::vector<const std::vector<float>*> references;  // 3 floats per pixel each
   std::vector<double> noise_mse;                      // each reference's own noise floor
-  double hold_seconds = 0;     // pose 0 holds still this long
-  double pose_interval = 0.1;  // seconds between later poses
-  double duration = 1;         // total run length in seconds
+  double hold_seconds = 0;                            // pose 0 holds still this long
+  double pose_interval = 0.1;                         // seconds between later poses
+  double duration = 1;                                // total run length in seconds
 };
 
 // What the display showed at one tick.
@@ -49,7 +49,8 @@ struct LiveResult {
   uint64_t dropped = 0;
 };
 
-// Runs `mode` for schedule.duration seconds; throws std::runtime_error on an engine or display error.
+// Runs `mode` for schedule.duration seconds; throws std::runtime_error on an engine or display
+// error.
 LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule& schedule);
 
 // Time-average of a per-tick value over ticks with t in [t0, t1] (each tick weighted by the

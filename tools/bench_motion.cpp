@@ -28,11 +28,11 @@ struct MotionArgs {
   double tail_seconds = 0.5;  // still camera after the move
   double camera_hz = 10;      // camera input rate: poses published per second
   double refresh = 30;
-  double orbit = 40;          // degrees orbited over the move
-  double dolly = 0.85;        // eye distance factor over the move
+  double orbit = 40;    // degrees orbited over the move
+  double dolly = 0.85;  // eye distance factor over the move
   std::vector<double> alphas = {0.25, 0.5, 1.0};
   std::vector<double> percents = {0.1, 1, 10};
-  double alpha = 0.5;         // default setting (the headline frameless value)
+  double alpha = 0.5;  // default setting (the headline frameless value)
   double percent = 1;
   int ref_spp = 32;
   int repeats = 2;
@@ -61,20 +61,28 @@ int run_motion(MotionArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
-  if (!(a.move_seconds > 0 && a.move_seconds <= 600)) return report_error("--move-seconds: must be in (0, 600]");
-  if (!(a.hold_seconds >= 0 && a.hold_seconds <= 600)) return report_error("--hold-seconds: must be in [0, 600]");
-  if (!(a.tail_seconds >= 0 && a.tail_seconds <= 600)) return report_error("--tail-seconds: must be in [0, 600]");
-  if (!(a.camera_hz >= 1 && a.camera_hz <= 240)) return report_error("--camera-hz: must be in [1, 240]");
+  if (a.threads < 0 || a.threads > 1024)
+    return report_error("--threads: must be between 1 and 1024");
+  if (!(a.move_seconds > 0 && a.move_seconds <= 600))
+    return report_error("--move-seconds: must be in (0, 600]");
+  if (!(a.hold_seconds >= 0 && a.hold_seconds <= 600))
+    return report_error("--hold-seconds: must be in [0, 600]");
+  if (!(a.tail_seconds >= 0 && a.tail_seconds <= 600))
+    return report_error("--tail-seconds: must be in [0, 600]");
+  if (!(a.camera_hz >= 1 && a.camera_hz <= 240))
+    return report_error("--camera-hz: must be in [1, 240]");
   if (!(a.refresh >= 1 && a.refresh <= 240)) return report_error("--refresh: must be in [1, 240]");
   if (!(a.dolly > 0 && std::isfinite(a.orbit))) return report_error("--dolly: must be > 0");
   if (!(a.alpha > 0 && a.alpha <= 1)) return report_error("--alpha: must be in (0, 1]");
-  if (!(a.percent >= 0.01 && a.percent <= 100)) return report_error("--update-percent: must be in [0.01, 100]");
+  if (!(a.percent >= 0.01 && a.percent <= 100))
+    return report_error("--update-percent: must be in [0.01, 100]");
   for (double al : a.alphas)
     if (!(al > 0 && al <= 1)) return report_error("--alphas: each must be in (0, 1]");
   for (double p : a.percents)
-    if (!(p >= 0.01 && p <= 100)) return report_error("--update-percents: each must be in [0.01, 100]");
-  if (a.ref_spp < 2 || a.ref_spp > 1 << 20) return report_error("--ref-spp: must be in [2, 1048576]");
+    if (!(p >= 0.01 && p <= 100))
+      return report_error("--update-percents: each must be in [0.01, 100]");
+  if (a.ref_spp < 2 || a.ref_spp > 1 << 20)
+    return report_error("--ref-spp: must be in [2, 1048576]");
   if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be in [1, 100]");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
@@ -91,7 +99,8 @@ int run_motion(MotionArgs a) {
     const int steps = std::max(1, int(std::lround(a.move_seconds * a.camera_hz)));
     std::vector<Camera> poses;
     for (int k = 0; k <= steps; ++k)
-      poses.push_back(evaluate_camera_path(path, a.move_seconds * double(k) / steps, scene->camera));
+      poses.push_back(
+          evaluate_camera_path(path, a.move_seconds * double(k) / steps, scene->camera));
 
     ReferenceSpec rs;
     rs.scene_id = scene_identity(a.scene);
@@ -104,7 +113,8 @@ int run_motion(MotionArgs a) {
     double ref_seconds = 0, noise_sum = 0;
     for (size_t k = 0; k < poses.size(); ++k) {
       rs.camera = poses[k];
-      if (show_progress()) std::fprintf(stderr, "\rbench motion: reference %zu/%zu", k + 1, poses.size());
+      if (show_progress())
+        std::fprintf(stderr, "\rbench motion: reference %zu/%zu", k + 1, poses.size());
       auto ref = load_or_render_reference(*scene, rs, cache, threads);
       if (!ref.ok()) return report_error(ref.error().message);
       cached += ref->from_cache ? 1 : 0;
@@ -165,7 +175,8 @@ int run_motion(MotionArgs a) {
     if (have_adaptive) rows.push_back(ad);
 
     CsvTable csv;
-    csv.header = {"run", "kind", "alpha", "update_percent", "t_s", "pose", "rmse", "rel_mse", "rmse_debiased", "coverage"};
+    csv.header = {"run",  "kind", "alpha",   "update_percent", "t_s",
+                  "pose", "rmse", "rel_mse", "rmse_debiased",  "coverage"};
     std::string dat;
     // Repeats interleave the settings, so a change in the machine's load hits all of them alike;
     // time averages are means over repeats, the curves and CSV come from the first repeat.
@@ -187,35 +198,53 @@ int run_motion(MotionArgs a) {
       for (const TickRecord& t : r.result.ticks) {
         csv.rows.push_back({r.mode.name, r.mode.kind, csv_number(r.alpha), csv_number(r.percent),
                             csv_number(t.t), std::to_string(t.pose), csv_number(t.rmse),
-                            csv_number(t.rel_mse), csv_number(t.rmse_debiased), csv_number(t.coverage)});
+                            csv_number(t.rel_mse), csv_number(t.rmse_debiased),
+                            csv_number(t.coverage)});
         dat += csv_number(t.t) + " " + csv_number(t.rmse) + "\n";
       }
       dat += "\n\n";
     }
 
     nlohmann::json settings = {
-        {"size", a.size}, {"threads", threads}, {"refresh_hz", a.refresh},
-        {"camera_hz", a.camera_hz}, {"hold_seconds", a.hold_seconds},
-        {"move_seconds", a.move_seconds}, {"tail_seconds", a.tail_seconds},
+        {"size", a.size},
+        {"threads", threads},
+        {"refresh_hz", a.refresh},
+        {"camera_hz", a.camera_hz},
+        {"hold_seconds", a.hold_seconds},
+        {"move_seconds", a.move_seconds},
+        {"tail_seconds", a.tail_seconds},
         {"path", {{"orbit_deg", a.orbit}, {"dolly_factor", a.dolly}, {"poses", poses.size()}}},
-        {"reference_spp", a.ref_spp}, {"alphas", a.alphas}, {"update_percents", a.percents},
-        {"default_alpha", a.alpha}, {"default_update_percent", a.percent}, {"quick", a.quick},
+        {"reference_spp", a.ref_spp},
+        {"alphas", a.alphas},
+        {"update_percents", a.percents},
+        {"default_alpha", a.alpha},
+        {"default_update_percent", a.percent},
+        {"quick", a.quick},
         {"repeats", a.repeats},
         {"clock", "wall (real Engine + DisplayThread)"},
-        {"averaging", "time average over the move [hold, hold + move], each tick weighted by its interval"}};
+        {"averaging",
+         "time average over the move [hold, hold + move], each tick weighted by its interval"}};
     nlohmann::json j = bench_header("motion", scene.get(), a.scene, settings);
-    j["references"] = {{"count", refs.size()}, {"from_cache", cached}, {"seconds", ref_seconds},
-                       {"spp", a.ref_spp}, {"mean_noise_rmse", std::sqrt(noise_sum / double(refs.size()))},
+    j["references"] = {{"count", refs.size()},
+                       {"from_cache", cached},
+                       {"seconds", ref_seconds},
+                       {"spp", a.ref_spp},
+                       {"mean_noise_rmse", std::sqrt(noise_sum / double(refs.size()))},
                        {"cache_dir", cache}};
     const RunRow* best = nullptr;
     nlohmann::json table = nlohmann::json::array();
     for (const RunRow& r : rows) {
-      table.push_back({{"run", r.mode.name}, {"kind", r.mode.kind}, {"alpha", r.alpha},
-                       {"update_percent", r.percent}, {"time_avg_rmse", r.avg_rmse},
+      table.push_back({{"run", r.mode.name},
+                       {"kind", r.mode.kind},
+                       {"alpha", r.alpha},
+                       {"update_percent", r.percent},
+                       {"time_avg_rmse", r.avg_rmse},
                        {"time_avg_rmse_debiased", r.avg_rmse_debiased},
-                       {"time_avg_rel_mse", r.avg_rel_mse}, {"tail_avg_rmse", r.tail_rmse},
+                       {"time_avg_rel_mse", r.avg_rel_mse},
+                       {"tail_avg_rmse", r.tail_rmse},
                        {"time_avg_rmse_per_repeat", r.per_repeat},
-                       {"samples_per_s", r.result.samples_per_s}, {"ticks", r.result.ticks.size()}});
+                       {"samples_per_s", r.result.samples_per_s},
+                       {"ticks", r.result.ticks.size()}});
       if (r.mode.kind == "frameless" && (!best || r.avg_rmse < best->avg_rmse)) best = &r;
     }
     const RunRow& fl = rows[0];
@@ -225,15 +254,20 @@ int run_motion(MotionArgs a) {
       if (r.mode.kind == "conventional") conv = &r;
       if (r.mode.kind == "adaptive") adap = &r;
     }
-    auto value = [](const RunRow* r, double RunRow::*f) { return r ? nlohmann::json(r->*f) : nlohmann::json(); };
-    j["time_avg_rmse"] = {{"frameless", fl.avg_rmse}, {"conventional", value(conv, &RunRow::avg_rmse)},
+    auto value = [](const RunRow* r, double RunRow::*f) {
+      return r ? nlohmann::json(r->*f) : nlohmann::json();
+    };
+    j["time_avg_rmse"] = {{"frameless", fl.avg_rmse},
+                          {"conventional", value(conv, &RunRow::avg_rmse)},
                           {"adaptive", value(adap, &RunRow::avg_rmse)}};
     j["time_avg_rmse_debiased"] = {{"frameless", fl.avg_rmse_debiased},
                                    {"conventional", value(conv, &RunRow::avg_rmse_debiased)},
                                    {"adaptive", value(adap, &RunRow::avg_rmse_debiased)}};
-    j["time_avg_rel_mse"] = {{"frameless", fl.avg_rel_mse}, {"conventional", value(conv, &RunRow::avg_rel_mse)},
+    j["time_avg_rel_mse"] = {{"frameless", fl.avg_rel_mse},
+                             {"conventional", value(conv, &RunRow::avg_rel_mse)},
                              {"adaptive", value(adap, &RunRow::avg_rel_mse)}};
-    j["frameless_setting"] = "the default setting: " + fl.mode.name + " (best frameless setting under frameless_best)";
+    j["frameless_setting"] =
+        "the default setting: " + fl.mode.name + " (best frameless setting under frameless_best)";
     j["frameless_best"] = {{"run", best->mode.name}, {"time_avg_rmse", best->avg_rmse}};
     if (!have_adaptive) j["adaptive_note"] = kAdaptiveMissing;
     j["runs"] = table;
@@ -243,13 +277,20 @@ int run_motion(MotionArgs a) {
       return report_error(error);
     std::string bars;
     for (size_t k = 0; k < rows.size(); ++k)
-      bars += std::to_string(k) + " " + csv_number(rows[k].avg_rmse) + " \"" + rows[k].mode.name + "\"\n";
+      bars += std::to_string(k) + " " + csv_number(rows[k].avg_rmse) + " \"" + rows[k].mode.name +
+              "\"\n";
     if (!write_text_atomic(a.out + "/motion_avg.dat", bars, error)) return report_error(error);
     std::string body = "set multiplot layout 1,2\nset grid\n";
-    body += "set title 'Moving camera: RMSE of each displayed image vs the converged image for that instant'\n";
-    body += "set xlabel 'seconds (camera moves between the dashed lines)'\nset ylabel 'RMSE'\nset key top left font ',8' opaque\n";
-    body += "set arrow from " + csv_number(t0) + ", graph 0 to " + csv_number(t0) + ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
-    body += "set arrow from " + csv_number(t1) + ", graph 0 to " + csv_number(t1) + ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
+    body +=
+        "set title 'Moving camera: RMSE of each displayed image vs the converged image for that "
+        "instant'\n";
+    body +=
+        "set xlabel 'seconds (camera moves between the dashed lines)'\nset ylabel 'RMSE'\nset key "
+        "top left font ',8' opaque\n";
+    body += "set arrow from " + csv_number(t0) + ", graph 0 to " + csv_number(t0) +
+            ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
+    body += "set arrow from " + csv_number(t1) + ", graph 0 to " + csv_number(t1) +
+            ", graph 1 nohead dt 2 lc rgb 'gray40'\n";
     // Scale the curves to the move (the initial fill of an empty screen would dwarf it).
     double ymax = 0;
     for (const RunRow& r : rows)
@@ -258,11 +299,16 @@ int run_motion(MotionArgs a) {
     body += "set yrange [0:" + csv_number(ymax > 0 ? 1.5 * ymax : 1.0) + "]\nplot ";
     for (size_t k = 0; k < rows.size(); ++k) {
       const bool key = k == 0 || rows[k].mode.kind != "frameless";
-      body += (k ? ", " : "") + std::string("'") + a.out + "/motion.dat' index " + std::to_string(k) +
-              " using 1:2 with lines lt " + std::to_string(k + 1) + " lw " + (key ? "2.5" : "1") + " title '" + rows[k].mode.name + "'";
+      body += (k ? ", " : "") + std::string("'") + a.out + "/motion.dat' index " +
+              std::to_string(k) + " using 1:2 with lines lt " + std::to_string(k + 1) + " lw " +
+              (key ? "2.5" : "1") + " title '" + rows[k].mode.name + "'";
     }
-    body += "\nunset arrow\nset title 'Time-averaged RMSE during the move'\nset xlabel ''\nset ylabel 'time-averaged RMSE'\n";
-    body += "set style fill solid 0.6\nset boxwidth 0.7\nset xtics rotate by -35 font ',8'\nset key off\nset yrange [0:*]\n";
+    body +=
+        "\nunset arrow\nset title 'Time-averaged RMSE during the move'\nset xlabel ''\nset ylabel "
+        "'time-averaged RMSE'\n";
+    body +=
+        "set style fill solid 0.6\nset boxwidth 0.7\nset xtics rotate by -35 font ',8'\nset key "
+        "off\nset yrange [0:*]\n";
     body += "plot '" + a.out + "/motion_avg.dat' using 1:2:xtic(3) with boxes lc rgb '#4477aa'";
     body += "\nunset multiplot";
     bool png = false;
@@ -272,7 +318,8 @@ int run_motion(MotionArgs a) {
     std::printf("bench motion: %s %dx%d, %d threads, camera %.3g Hz over %.3g s\n", a.scene.c_str(),
                 width, height, threads, a.camera_hz, a.move_seconds);
     for (const RunRow& r : rows)
-      std::printf("  %-34s time-avg RMSE %.4f (debiased %.4f)\n", r.mode.name.c_str(), r.avg_rmse, r.avg_rmse_debiased);
+      std::printf("  %-34s time-avg RMSE %.4f (debiased %.4f)\n", r.mode.name.c_str(), r.avg_rmse,
+                  r.avg_rmse_debiased);
     if (!have_adaptive) std::printf("  adaptive: not in this engine build\n");
     std::printf("  wrote %s/motion.json\n", a.out.c_str());
   } catch (const std::exception& ex) {
@@ -282,28 +329,45 @@ int run_motion(MotionArgs a) {
 }
 
 const bool registered = register_command(
-    "bench", "motion", "Moving camera: error of every displayed image vs the converged image for that instant",
+    "bench", "motion",
+    "Moving camera: error of every displayed image vs the converged image for that instant",
     [](CLI::App& app) {
       auto args = std::make_shared<MotionArgs>();
-      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
-      app.add_option("--out", args->out, "Output directory (motion.json, motion.csv, motion.png)")->required();
+      app.add_option("scene", args->scene,
+                     "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("--out", args->out, "Output directory (motion.json, motion.csv, motion.png)")
+          ->required();
       app.add_option("--size", args->size, "Image size WxH (default 320x240)");
       app.add_option("--threads", args->threads, "Render threads (default: all hardware threads)");
       app.add_option("--move-seconds", args->move_seconds, "Length of the camera move (default 3)");
-      app.add_option("--hold-seconds", args->hold_seconds, "Still camera before the move (default 1)");
-      app.add_option("--tail-seconds", args->tail_seconds, "Still camera after the move (default 0.5)");
-      app.add_option("--camera-hz", args->camera_hz, "Camera input rate: poses per second (default 10)");
+      app.add_option("--hold-seconds", args->hold_seconds,
+                     "Still camera before the move (default 1)");
+      app.add_option("--tail-seconds", args->tail_seconds,
+                     "Still camera after the move (default 0.5)");
+      app.add_option("--camera-hz", args->camera_hz,
+                     "Camera input rate: poses per second (default 10)");
       app.add_option("--refresh", args->refresh, "Display refresh in Hz (default 30)");
       app.add_option("--orbit", args->orbit, "Degrees orbited during the move (default 40)");
       app.add_option("--dolly", args->dolly, "Eye-distance factor over the move (default 0.85)");
-      app.add_option("--alphas", args->alphas, "Frameless blend weights to compare (default 0.25,0.5,1)")->delimiter(',');
-      app.add_option("--update-percents", args->percents, "Update percentages to compare (default 0.1,1,10)")->delimiter(',');
-      app.add_option("--alpha", args->alpha, "Default frameless alpha: the headline setting (default 0.5)");
+      app.add_option("--alphas", args->alphas,
+                     "Frameless blend weights to compare (default 0.25,0.5,1)")
+          ->delimiter(',');
+      app.add_option("--update-percents", args->percents,
+                     "Update percentages to compare (default 0.1,1,10)")
+          ->delimiter(',');
+      app.add_option("--alpha", args->alpha,
+                     "Default frameless alpha: the headline setting (default 0.5)");
       app.add_option("--update-percent", args->percent, "Default update percentage (default 1)");
-      app.add_option("--ref-spp", args->ref_spp, "Reference samples per pixel per pose (default 32)");
-      app.add_option("--repeats", args->repeats, "Runs of every setting, interleaved; time averages are their mean (default 2)");
-      app.add_option("--cache", args->cache, "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
-      app.add_flag("--quick", args->quick, "Smoke mode: 160x120, 1.5 s move, 8-spp references, fewer settings, one repeat");
+      app.add_option("--ref-spp", args->ref_spp,
+                     "Reference samples per pixel per pose (default 32)");
+      app.add_option(
+          "--repeats", args->repeats,
+          "Runs of every setting, interleaved; time averages are their mean (default 2)");
+      app.add_option(
+          "--cache", args->cache,
+          "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
+      app.add_flag("--quick", args->quick,
+                   "Smoke mode: 160x120, 1.5 s move, 8-spp references, fewer settings, one repeat");
       return [args]() { return run_motion(*args); };
     });
 

@@ -111,8 +111,8 @@ nlohmann::json describe_scene(const Scene& scene, const std::string& spec) {
   j["lights"] = scene.lights.size();
   j["materials"] = scene.materials.size();
   const AccelStats& a = scene.accel.stats();
-  j["bvh"] = {{"build_ms", a.build_ms}, {"bytes", a.bytes}, {"geometry_bytes", a.geometry_bytes},
-              {"nodes", a.nodes}, {"leaves", a.leaves}, {"depth", a.depth}};
+  j["bvh"] = {{"build_ms", a.build_ms}, {"bytes", a.bytes},   {"geometry_bytes", a.geometry_bytes},
+              {"nodes", a.nodes},       {"leaves", a.leaves}, {"depth", a.depth}};
   return j;
 }
 
@@ -189,7 +189,8 @@ bool gnuplot_found() {
   std::string dir;
   while (std::getline(dirs, dir, ':')) {
     std::error_code ec;
-    if (!dir.empty() && std::filesystem::exists(std::filesystem::path(dir) / "gnuplot", ec)) return true;
+    if (!dir.empty() && std::filesystem::exists(std::filesystem::path(dir) / "gnuplot", ec))
+      return true;
   }
   return false;
 }
@@ -205,15 +206,17 @@ bool plot_png(const std::string& dir, const std::string& name, int width, int he
   script += "set output '" + tmp + "'\n" + body + "\nset output\n";
   if (!write_text_atomic(gp, script, error)) return false;
   if (!gnuplot_found()) {
-    std::fprintf(stderr, "frameless: gnuplot not found (apt-get install gnuplot); skipped %s, script in %s\n",
-                 png.c_str(), gp.c_str());
+    std::fprintf(
+        stderr,
+        "frameless: gnuplot not found (apt-get install gnuplot); skipped %s, script in %s\n",
+        png.c_str(), gp.c_str());
     return true;
   }
   const std::string cmd = "gnuplot '" + gp + "' > '" + dir + "/" + name + ".gp.log' 2>&1";
   if (std::system(cmd.c_str()) != 0) {
     std::remove(tmp.c_str());
-    std::fprintf(stderr, "frameless: gnuplot failed on %s (see %s.gp.log); skipped %s\n", gp.c_str(),
-                 name.c_str(), png.c_str());
+    std::fprintf(stderr, "frameless: gnuplot failed on %s (see %s.gp.log); skipped %s\n",
+                 gp.c_str(), name.c_str(), png.c_str());
     return true;
   }
   std::remove((dir + "/" + name + ".gp.log").c_str());

@@ -1,10 +1,9 @@
 // Shared helpers of the `frameless bench` benchmarks: what ran where (machine, build, scene,
 // settings), JSON and CSV outputs written atomically, gnuplot plots to PNG; main thread only.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/scene.h"
 #include "frameless/engine_config.h"

@@ -105,13 +105,18 @@ int run_scaling(ScalingArgs a) {
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
   if (!scene) return 2;
   try {
-    nlohmann::json settings = {{"size", a.size}, {"threads", a.threads}, {"seconds_per_point", a.seconds},
-                               {"hardware_threads", cores}, {"quick", a.quick},
-                               {"engine", "frameless mode, no display thread, default EngineConfig otherwise"},
-                               {"rays", "primary rays through pixel centres, Accel::intersect (closest hit), no shading"}};
+    nlohmann::json settings = {
+        {"size", a.size},
+        {"threads", a.threads},
+        {"seconds_per_point", a.seconds},
+        {"hardware_threads", cores},
+        {"quick", a.quick},
+        {"engine", "frameless mode, no display thread, default EngineConfig otherwise"},
+        {"rays", "primary rays through pixel centres, Accel::intersect (closest hit), no shading"}};
     nlohmann::json j = bench_header("scaling", scene.get(), a.scene, settings);
     CsvTable csv;
-    csv.header = {"threads", "samples_per_s", "speedup", "efficiency", "mrays_per_s", "ray_speedup", "ray_efficiency", "cpu_cores_used", "cpu_efficiency"};
+    csv.header = {"threads",     "samples_per_s",  "speedup",        "efficiency",    "mrays_per_s",
+                  "ray_speedup", "ray_efficiency", "cpu_cores_used", "cpu_efficiency"};
     std::string dat;
     double base_s = 0, base_r = 0, base_cpu = 0;
     j["points"] = nlohmann::json::array();
@@ -123,7 +128,8 @@ int run_scaling(ScalingArgs a) {
       c.threads = t;
       const Throughput th = engine_rate(*scene, c, a.seconds);
       const double rays = ray_rate(*scene, width, height, t, a.seconds);
-      if (base_s == 0) base_s = th.samples_per_s / a.threads.front();  // per-thread rate of the first point
+      if (base_s == 0)
+        base_s = th.samples_per_s / a.threads.front();  // per-thread rate of the first point
       if (base_r == 0) base_r = rays / a.threads.front();
       const double ideal = std::min(t, cores);
       const double sp = th.samples_per_s / base_s, rsp = rays / base_r;
@@ -131,20 +137,30 @@ int run_scaling(ScalingArgs a) {
       // shared with other work this separates the engine's own scaling from missing cores.
       const double per_cpu = th.samples_per_s / std::max(1e-9, th.cpu_fraction);
       if (base_cpu == 0) base_cpu = per_cpu;
-      j["points"].push_back({{"threads", t}, {"samples_per_s", th.samples_per_s}, {"speedup", sp},
-                             {"efficiency", sp / ideal}, {"mrays_per_s", rays * 1e-6}, {"ray_speedup", rsp},
-                             {"ray_efficiency", rsp / ideal}, {"cpu_cores_used", th.cpu_fraction},
-                             {"samples_per_cpu_s", per_cpu}, {"cpu_efficiency", per_cpu / base_cpu}});
-      csv.rows.push_back({std::to_string(t), csv_number(th.samples_per_s), csv_number(sp), csv_number(sp / ideal),
-                          csv_number(rays * 1e-6), csv_number(rsp), csv_number(rsp / ideal), csv_number(th.cpu_fraction),
+      j["points"].push_back({{"threads", t},
+                             {"samples_per_s", th.samples_per_s},
+                             {"speedup", sp},
+                             {"efficiency", sp / ideal},
+                             {"mrays_per_s", rays * 1e-6},
+                             {"ray_speedup", rsp},
+                             {"ray_efficiency", rsp / ideal},
+                             {"cpu_cores_used", th.cpu_fraction},
+                             {"samples_per_cpu_s", per_cpu},
+                             {"cpu_efficiency", per_cpu / base_cpu}});
+      csv.rows.push_back({std::to_string(t), csv_number(th.samples_per_s), csv_number(sp),
+                          csv_number(sp / ideal), csv_number(rays * 1e-6), csv_number(rsp),
+                          csv_number(rsp / ideal), csv_number(th.cpu_fraction),
                           csv_number(per_cpu / base_cpu)});
-      dat += std::to_string(t) + " " + csv_number(sp) + " " + csv_number(rsp) + " " + csv_number(sp / ideal) +
-             " " + csv_number(rsp / ideal) + " " + csv_number(per_cpu / base_cpu) + " " + csv_number(th.cpu_fraction) + "\n";
+      dat += std::to_string(t) + " " + csv_number(sp) + " " + csv_number(rsp) + " " +
+             csv_number(sp / ideal) + " " + csv_number(rsp / ideal) + " " +
+             csv_number(per_cpu / base_cpu) + " " + csv_number(th.cpu_fraction) + "\n";
     }
-    j["efficiency_note"] = "speedup = rate / (rate of the first point per thread); efficiency = speedup / "
-                           "min(threads, hardware threads): 1 = linear up to the cores, flat beyond; cpu_efficiency = samples "
-                           "per process CPU-second relative to the first point: the engine's own overhead "
-                           "(contention, sharing) without the cores other processes took";
+    j["efficiency_note"] =
+        "speedup = rate / (rate of the first point per thread); efficiency = speedup / "
+        "min(threads, hardware threads): 1 = linear up to the cores, flat beyond; cpu_efficiency = "
+        "samples "
+        "per process CPU-second relative to the first point: the engine's own overhead "
+        "(contention, sharing) without the cores other processes took";
     if (!write_text_atomic(a.out + "/scaling.csv", csv.text(), error) ||
         !write_text_atomic(a.out + "/scaling.dat", dat, error))
       return report_error(error);
@@ -153,19 +169,27 @@ int run_scaling(ScalingArgs a) {
     body += "set xlabel 'threads'\nset ylabel 'speed-up over one thread'\nset yrange [0:*]\n";
     body += "plot x < " + std::to_string(cores) + " ? x : " + std::to_string(cores) +
             " dt 2 lc rgb 'gray40' title 'linear to the cores', '" + a.out +
-            "/scaling.dat' using 1:2 with linespoints lw 2 title 'engine samples/s', '' using 1:3 with linespoints lw 2 title 'primary Mrays/s'\n";
-    body += "set title 'Efficiency against linear'\nset ylabel 'efficiency (and CPU cores used)'\nset yrange [0:*]\nset key bottom left\n";
-    body += "plot 1 dt 2 lc rgb 'gray40' notitle, '" + a.out + "/scaling.dat' using 1:4 with linespoints lw 2 title 'engine', '' using 1:5 with linespoints lw 2 title 'rays', '' using 1:6 with linespoints lw 2 dt 4 title 'engine per CPU-second', '' using 1:7 with points pt 7 title 'CPU cores used (engine)'\n";
+            "/scaling.dat' using 1:2 with linespoints lw 2 title 'engine samples/s', '' using 1:3 "
+            "with linespoints lw 2 title 'primary Mrays/s'\n";
+    body +=
+        "set title 'Efficiency against linear'\nset ylabel 'efficiency (and CPU cores used)'\nset "
+        "yrange [0:*]\nset key bottom left\n";
+    body += "plot 1 dt 2 lc rgb 'gray40' notitle, '" + a.out +
+            "/scaling.dat' using 1:4 with linespoints lw 2 title 'engine', '' using 1:5 with "
+            "linespoints lw 2 title 'rays', '' using 1:6 with linespoints lw 2 dt 4 title 'engine "
+            "per CPU-second', '' using 1:7 with points pt 7 title 'CPU cores used (engine)'\n";
     body += "unset multiplot";
     bool png = false;
     if (!plot_png(a.out, "scaling", 1000, 400, body, error, &png)) return report_error(error);
     j["outputs"] = {{"csv", "scaling.csv"}, {"plot", png ? "scaling.png" : ""}};
     if (!write_json(a.out + "/scaling.json", j, error)) return report_error(error);
-    std::printf("bench scaling: %s %dx%d, %d hardware threads\n", a.scene.c_str(), width, height, cores);
+    std::printf("bench scaling: %s %dx%d, %d hardware threads\n", a.scene.c_str(), width, height,
+                cores);
     for (const auto& p : j["points"])
-      std::printf("  %3d threads: %7.3f M samples/s (eff %.2f), %7.2f Mrays/s (eff %.2f)\n", p["threads"].get<int>(),
-                  p["samples_per_s"].get<double>() * 1e-6, p["efficiency"].get<double>(),
-                  p["mrays_per_s"].get<double>(), p["ray_efficiency"].get<double>());
+      std::printf("  %3d threads: %7.3f M samples/s (eff %.2f), %7.2f Mrays/s (eff %.2f)\n",
+                  p["threads"].get<int>(), p["samples_per_s"].get<double>() * 1e-6,
+                  p["efficiency"].get<double>(), p["mrays_per_s"].get<double>(),
+                  p["ray_efficiency"].get<double>());
     std::printf("  (efficiency per CPU-second: ");
     for (const auto& p : j["points"]) std::printf("%.2f ", p["cpu_efficiency"].get<double>());
     std::printf(")\n  wrote %s/scaling.json\n", a.out.c_str());
@@ -176,13 +200,19 @@ int run_scaling(ScalingArgs a) {
 }
 
 const bool registered = register_command(
-    "bench", "scaling", "Samples/s and Mrays/s vs threads, oversubscribed too; efficiency vs linear",
+    "bench", "scaling",
+    "Samples/s and Mrays/s vs threads, oversubscribed too; efficiency vs linear",
     [](CLI::App& app) {
       auto args = std::make_shared<ScalingArgs>();
-      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
-      app.add_option("--out", args->out, "Output directory (scaling.json, scaling.csv, scaling.png)")->required();
+      app.add_option("scene", args->scene,
+                     "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("--out", args->out,
+                     "Output directory (scaling.json, scaling.csv, scaling.png)")
+          ->required();
       app.add_option("--size", args->size, "Image size WxH (default 320x240)");
-      app.add_option("--threads", args->threads, "Thread counts (default 1..cores, 2x and 4x cores)")->delimiter(',');
+      app.add_option("--threads", args->threads,
+                     "Thread counts (default 1..cores, 2x and 4x cores)")
+          ->delimiter(',');
       app.add_option("--seconds", args->seconds, "Seconds per measurement (default 2)");
       app.add_flag("--quick", args->quick, "Smoke mode: 160x120, 0.5 s per point");
       return [args]() { return run_scaling(*args); };

@@ -8,10 +8,11 @@ namespace frameless {
 
 // Errors of one image against a reference. Both are 3 floats per pixel (linear RGB), same size.
 struct ImageError {
-  double mse = 0;      // mean over pixels and channels of (image - reference)^2
-  double rmse = 0;     // sqrt(mse)
-  double rel_mse = 0;  // mean over pixels and channels of (image - reference)^2 / (reference^2 + eps)
-  size_t pixels = 0;   // pixels compared
+  double mse = 0;   // mean over pixels and channels of (image - reference)^2
+  double rmse = 0;  // sqrt(mse)
+  double rel_mse =
+      0;  // mean over pixels and channels of (image - reference)^2 / (reference^2 + eps)
+  size_t pixels = 0;  // pixels compared
 };
 
 // Offset in the denominator of the relative MSE (Rousselle et al. 2011 use 0.01): keeps

@@ -97,7 +97,8 @@ Result<bool> write_reference_file(const std::string& path, const std::string& ke
     char header[96];
     std::snprintf(header, sizeof header, "%d %d %.17g\n", ref.width, ref.height, ref.noise_mse);
     out << "FLREF1\n" << key_text << "\n" << header;
-    out.write(reinterpret_cast<const char*>(ref.rgb.data()), std::streamsize(ref.rgb.size() * sizeof(float)));
+    out.write(reinterpret_cast<const char*>(ref.rgb.data()),
+              std::streamsize(ref.rgb.size() * sizeof(float)));
     out.flush();
     if (!out) {
       std::remove(tmp.c_str());
@@ -125,7 +126,8 @@ Result<Reference> read_reference_file(const std::string& path, const std::string
     return Error{path + ": bad size line"};
   r.rgb.resize(size_t(r.width) * size_t(r.height) * 3);
   in.read(reinterpret_cast<char*>(r.rgb.data()), std::streamsize(r.rgb.size() * sizeof(float)));
-  if (in.gcount() != std::streamsize(r.rgb.size() * sizeof(float))) return Error{path + ": truncated pixels"};
+  if (in.gcount() != std::streamsize(r.rgb.size() * sizeof(float)))
+    return Error{path + ": truncated pixels"};
   r.from_cache = true;
   r.path = path;
   return r;
@@ -145,7 +147,8 @@ Result<Reference> load_or_render_reference(const Scene& scene, const ReferenceSp
     path = cache_dir + "/ref_" + reference_key_hash(spec) + ".bin";
     auto cached = read_reference_file(path, key);
     if (cached.ok() && cached->width == spec.width && cached->height == spec.height) {
-      cached->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      cached->seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return cached;
     }
   }

@@ -19,13 +19,13 @@ struct ReferenceSpec {
   Camera camera;
   int width = 0;
   int height = 0;
-  int spp = 64;              // samples per pixel, rendered as two independent halves
+  int spp = 64;  // samples per pixel, rendered as two independent halves
 };
 
 struct Reference {
   int width = 0, height = 0;
-  std::vector<float> rgb;   // 3 floats per pixel: mean of both halves (linear RGB, row 0 at top)
-  double noise_mse = 0;     // MSE the reference's own noise adds to a comparison (half_difference_mse)
+  std::vector<float> rgb;  // 3 floats per pixel: mean of both halves (linear RGB, row 0 at top)
+  double noise_mse = 0;  // MSE the reference's own noise adds to a comparison (half_difference_mse)
   bool from_cache = false;  // read from the cache rather than rendered
   double seconds = 0;       // render or read time
   std::string path;         // cache file ("" when caching is off)

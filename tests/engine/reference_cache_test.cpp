@@ -17,8 +17,9 @@ namespace {
 struct TempDir {
   std::string path;
   TempDir() {
-    path = (std::filesystem::temp_directory_path() / ("frameless_refcache_" + std::to_string(::getpid()) + "_" +
-                                                      std::to_string(reinterpret_cast<uintptr_t>(this))))
+    path = (std::filesystem::temp_directory_path() /
+            ("frameless_refcache_" + std::to_string(::getpid()) + "_" +
+             std::to_string(reinterpret_cast<uintptr_t>(this))))
                .string();
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
@@ -26,7 +27,8 @@ struct TempDir {
   ~TempDir() { std::filesystem::remove_all(path); }
   size_t files() const {
     size_t n = 0;
-    for (const auto& e : std::filesystem::directory_iterator(path)) n += e.is_regular_file() ? 1 : 0;
+    for (const auto& e : std::filesystem::directory_iterator(path))
+      n += e.is_regular_file() ? 1 : 0;
     return n;
   }
 };
@@ -66,7 +68,8 @@ TEST(ReferenceCache, KeyChangesWithEveryInput) {
   EXPECT_TRUE(differs([](ReferenceSpec& b) { b.code_version = "v2"; }));
   EXPECT_TRUE(differs([](ReferenceSpec& b) { b.width = 11; }));
   EXPECT_TRUE(differs([](ReferenceSpec& b) { b.spp = 65; }));
-  EXPECT_TRUE(differs([](ReferenceSpec& b) { b.camera.eye.x = std::nextafter(b.camera.eye.x, 1.0f); }));
+  EXPECT_TRUE(
+      differs([](ReferenceSpec& b) { b.camera.eye.x = std::nextafter(b.camera.eye.x, 1.0f); }));
   EXPECT_TRUE(differs([](ReferenceSpec& b) { b.camera.fov_deg = 46.0f; }));
 }
 
@@ -113,7 +116,8 @@ TEST(ReferenceCache, ReferenceIsTheMeanOfAllItsSamples) {
   TileRenderOptions o;
   o.spp = spec.spp;
   o.threads = 1;
-  const RenderedImage full = render_tiles(*scene, make_camera_basis(spec.camera, spec.width, spec.height), o);
+  const RenderedImage full =
+      render_tiles(*scene, make_camera_basis(spec.camera, spec.width, spec.height), o);
   EXPECT_LT(image_error(ref->rgb, full.rgb).rmse, 1e-5);
   EXPECT_GE(ref->noise_mse, 0.0);
 }
