@@ -64,7 +64,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // Bad flags: one line, like every other error.
+    std::fprintf(stderr, "frameless: %s (see --help)\n", e.what());
+    return 2;
   }
   for (auto& [sub, run] : runners)
     if (sub->parsed() && run && sub->get_subcommands().empty()) return run();
