@@ -2,7 +2,7 @@
 # Builds and runs every test: Release suite, then ASan+UBSan (all but the engine's concurrency
 # suite), then ThreadSanitizer (engine suite), then the scene/mesh parser fuzzer for a bounded time.
 # Usage: tools/test.sh [--quick]   (--quick: Release suite only)
-# Env: FRAMELESS_FUZZ_SECONDS (default 60), FRAMELESS_LONG_TESTS=1 for long stress runs.
+# Env: FRAMELESS_FUZZ_SECONDS (default 45), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -10,7 +10,8 @@ tools/install-deps.sh --test
 jobs=$(nproc 2>/dev/null || echo 2)
 quick=0; [ "${1:-}" = "--quick" ] && quick=1
 
-section() { printf '\n=== %s ===\n' "$*"; }
+start=$(date +%s)
+section() { printf '\n=== %s (at %ds) ===\n' "$*" $(($(date +%s) - start)); }
 
 section "Release build and tests"
 tools/build.sh build/release
@@ -18,22 +19,24 @@ tools/build.sh build/release
 [ $quick = 1 ] && exit 0
 
 section "ASan+UBSan build and tests (core, display, cli)"
-tools/build.sh build/asan -DFRAMELESS_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=RelWithDebInfo
+tools/build.sh build/asan -DFRAMELESS_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Sanitize \
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- core_tests display_tests cli_tests frameless
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest -j"$jobs" --output-on-failure -LE engine)
+  ctest -j"$jobs" --output-on-failure -LE engine -E '_NOT_BUILT$')
 
 section "ThreadSanitizer build and tests (engine concurrency)"
-tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=RelWithDebInfo -- engine_tests
+tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- engine_tests
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   ctest -j"$jobs" --output-on-failure -L engine)
 
 if [ -f tests/fuzz/CMakeLists.txt ]; then
-  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-60} s)"
+  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-45} s)"
   tools/build.sh build/fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
     -DFRAMELESS_FUZZ=ON -DFRAMELESS_TESTS=ON -- scene_fuzzer
   mkdir -p build/fuzz/corpus
-  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-60}" \
-    -print_final_stats=0 build/fuzz/corpus tests/fuzz/corpus 2>build/fuzz/fuzz.log ||
+  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-45}" \
+    -rss_limit_mb=2048 -max_len=65536 build/fuzz/corpus tests/fuzz/corpus 2>build/fuzz/fuzz.log ||
     { tail -50 build/fuzz/fuzz.log; exit 1; }
   echo "fuzzer: $(grep -c . build/fuzz/fuzz.log) log lines, no crash"
 fi
