@@ -17,6 +17,10 @@
 namespace frameless {
 namespace {
 
+// The engine keeps a reference to its scene: a named one outlives every engine (these tests use
+// synthetic shaders and never trace it).
+const Scene kNoScene{};
+
 using testing::camera_at;
 using testing::test_config;
 
@@ -52,7 +56,7 @@ struct RunResult {
 };
 
 RunResult run(const EngineConfig& c, int ticks) {
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kNoScene, c, camera_at(0));
   for (int k = 0; k < ticks; ++k) {
     e.note_display_tick(uint32_t(k));
     e.advance(0.01);
@@ -114,7 +118,7 @@ TEST(Adaptive, TheRevisitBoundBites) {
 TEST(Adaptive, CameraChangeStillReachesEveryPixelWithinTheBound) {
   for (bool adaptive : {false, true}) {
     SCOPED_TRACE(adaptive);
-    Engine e(Scene{}, adaptive_config(adaptive), camera_at(0));
+    Engine e(kNoScene, adaptive_config(adaptive), camera_at(0));
     for (int k = 0; k < 120; ++k) e.advance(0.01);  // flat half converged and skipping
     const uint32_t epoch = e.publish_camera(camera_at(1));
     auto coverage = [&] {
@@ -136,7 +140,7 @@ TEST(Adaptive, CameraChangeStillReachesEveryPixelWithinTheBound) {
 
 TEST(Adaptive, DeterministicRunsAreBitIdentical) {
   auto snapshot = [](const EngineConfig& c) {
-    Engine e(Scene{}, c, camera_at(0));
+    Engine e(kNoScene, c, camera_at(0));
     for (int k = 0; k < 80; ++k) {
       if (k == 50) e.publish_camera(camera_at(0.5f));
       e.advance(0.01);
@@ -161,7 +165,7 @@ TEST(Adaptive, DeterministicRunsAreBitIdentical) {
 // asking for it, or enabling adaptive sampling, turns it on.
 TEST(Adaptive, VarianceIsTrackedOnlyWhenSomethingReadsIt) {
   auto variance_of = [](const EngineConfig& c) {
-    Engine e(Scene{}, c, camera_at(0));
+    Engine e(kNoScene, c, camera_at(0));
     for (int k = 0; k < 20; ++k) e.advance(0.01);
     PixelSnapshot p;
     EXPECT_TRUE(e.read_pixel(kW - 1, 3, p));  // a noisy pixel
@@ -218,7 +222,7 @@ TEST(Adaptive, WallClockThreadsSkipAndCoverEveryPixel) {
   EngineConfig c = adaptive_config(true);
   c.deterministic = false;
   c.update_log_capacity = 0;
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kNoScene, c, camera_at(0));
   e.start();
   for (int k = 0; k < 20000 && e.stats().samples < 100000; ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
