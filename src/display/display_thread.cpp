@@ -1,6 +1,9 @@
 // Display thread: collect -> blend -> publish through a triple buffer whose back buffer is
 // brought up to date from short per-tick dirty lists, so a tick costs in proportion to the pixels
-// that changed, not to the image size.
+// that changed, not to the image size. The display thread keeps one 32-byte struct per pixel (a
+// blend or copy touches half a cache line instead of five scattered ones); the public
+// DisplayImage layers are built only for whoever asks: the consumer in acquire_latest(), and
+// the on-tick callback when one is set.
 #include "display/display_thread.h"
 
 #include <time.h>
@@ -27,6 +30,56 @@ constexpr uint32_t kNew = 4;
 constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
 constexpr uint64_t kHistory = 4;       // ticks of dirty lists kept for the triple buffer
 constexpr size_t kIntervalsKept = 1024;
+// Pixels ahead whose display pixel is prefetched: updates arrive in scattered chunks of a large
+// image, so without it each blend and each copy waits for a cache miss.
+constexpr size_t kPrefetch = 16;
+
+// One displayed pixel and its layers, kept together (see DisplayImage for their meaning).
+struct DisplayPixel {
+  float rgb[3] = {0.0f, 0.0f, 0.0f};
+  float last_update = -1.0f;
+  uint32_t count = 0;
+  float variance = 0.0f;
+  uint32_t epoch = 0;
+  uint32_t unused = 0;  // pads to 32 bytes: two pixels per cache line
+};
+static_assert(sizeof(DisplayPixel) == 32);
+
+// The display thread's image: the DisplayImage layers interleaved per pixel.
+struct PixelImage {
+  int width = 0;
+  int height = 0;
+  std::vector<DisplayPixel> px;
+  FrameInfo info;
+
+  size_t pixels() const { return size_t(width) * size_t(height); }
+  void reset(int w, int h) {
+    width = w;
+    height = h;
+    px.assign(pixels(), DisplayPixel{});
+  }
+};
+
+// Writes the layers of pixel i of `src` into `dst` (same size).
+inline void export_pixel(const PixelImage& src, DisplayImage& dst, size_t i) {
+  const DisplayPixel& p = src.px[i];
+  dst.rgb[3 * i] = p.rgb[0];
+  dst.rgb[3 * i + 1] = p.rgb[1];
+  dst.rgb[3 * i + 2] = p.rgb[2];
+  dst.last_update[i] = p.last_update;
+  dst.sample_count[i] = p.count;
+  dst.variance[i] = p.variance;
+  dst.epoch[i] = p.epoch;
+}
+
+// Converts the whole image into the public layer layout.
+void export_image(const PixelImage& src, DisplayImage& dst) {
+  if (dst.width != src.width || dst.height != src.height || dst.epoch.size() != src.pixels())
+    dst.reset(src.width, src.height);
+  const size_t n = src.pixels();
+  for (size_t i = 0; i < n; ++i) export_pixel(src, dst, i);
+  dst.info = src.info;
+}
 
 }  // namespace
 
@@ -41,7 +94,8 @@ struct DisplayThread::Impl {
   // Display-thread state.
   UpdateCursor cursor;
   std::vector<PixelUpdate> updates;
-  DisplayImage master;
+  DisplayImage tick_image;         // public layers of the newest image for the on-tick callback
+  uint64_t tick_image_synced = 0;  // ticks whose changes tick_image holds (0: none)
   uint64_t tick_index = 0;
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
@@ -49,13 +103,17 @@ struct DisplayThread::Impl {
   std::vector<uint32_t> dirty[kHistory];
   bool dirty_full[kHistory] = {};
 
-  // Triple buffer: the display fills `back`, swaps it with `middle`; the consumer swaps `middle`
-  // into `front`. synced[b]: ticks whose changes buffer b holds.
-  DisplayImage buf[3];
+  // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
+  // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
+  // synced[b]: ticks whose changes buffer b holds; newest: the buffer published last (3: none),
+  // which only ever gets read while it is not `back`.
+  PixelImage buf[3];
+  uint32_t newest = 3;
   uint64_t synced[3] = {0, 0, 0};
   std::atomic<uint32_t> middle{1};
   uint32_t back = 0;
   uint32_t front = 2;
+  DisplayImage latest;  // consumer: public layers of buf[front]
 
   // Wall-clock thread.
   std::thread thread;
@@ -75,11 +133,6 @@ struct DisplayThread::Impl {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   }
 
-  void reset_image(int w, int h) {
-    master.reset(w, h);
-    epoch_tag.assign(kEpochRing, 0);
-    epoch_count.assign(kEpochRing, 0);
-  }
 
   // Moves one pixel's epoch from `from` to `to` in the coverage counts.
   void count_epoch(uint32_t from, uint32_t to) {
@@ -93,7 +146,9 @@ struct DisplayThread::Impl {
   }
 
   FrameInfo run_tick(double interval);
+  bool catch_up(int width, int height, bool reset);
   void publish();
+  void update_tick_image(const PixelImage& img, bool full);
   void thread_main();
 };
 
@@ -105,36 +160,36 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   }
   engine.note_display_tick(uint32_t(tick_index));
   const CollectResult r = engine.collect_updates(cursor, updates);
+  bool full = catch_up(r.width, r.height, r.reset);
+  PixelImage& image = buf[back];
   std::vector<uint32_t>& dirty_now = dirty[tick_index % kHistory];
   dirty_now.clear();
-  bool full = false;
-  if (r.reset || master.width != r.width || master.height != r.height) {
-    reset_image(r.width, r.height);
-    full = true;
-  }
 
   const bool conventional = r.mode == RenderMode::conventional;
-  for (const PixelUpdate& u : updates) {
-    const size_t i = u.pixel;
-    const Vec3 prev(master.rgb[3 * i], master.rgb[3 * i + 1], master.rgb[3 * i + 2]);
+  for (size_t k = 0; k < updates.size(); ++k) {
+    const PixelUpdate& u = updates[k];
+    if (k + kPrefetch < updates.size())
+      __builtin_prefetch(&image.px[updates[k + kPrefetch].pixel], 1);
+    DisplayPixel& m = image.px[u.pixel];
+    const Vec3 prev(m.rgb[0], m.rgb[1], m.rgb[2]);
     bool bad = false;
-    const Vec3 c = blend_pixel(cfg.blend, conventional, prev, master.epoch[i],
-                               master.last_update[i], u.state, &bad);
+    const Vec3 c =
+        blend_pixel(cfg.blend, conventional, prev, m.epoch, m.last_update, u.state, &bad);
     rejected += bad;
-    count_epoch(master.epoch[i], u.state.epoch);
-    master.rgb[3 * i] = c.x;
-    master.rgb[3 * i + 1] = c.y;
-    master.rgb[3 * i + 2] = c.z;
-    master.last_update[i] = u.state.time;
-    master.sample_count[i] = u.state.count;
-    master.variance[i] = std::isfinite(u.state.variance) ? u.state.variance : 0.0f;
-    master.epoch[i] = u.state.epoch;
+    count_epoch(m.epoch, u.state.epoch);
+    m.rgb[0] = c.x;
+    m.rgb[1] = c.y;
+    m.rgb[2] = c.z;
+    m.last_update = u.state.time;
+    m.count = u.state.count;
+    m.variance = std::isfinite(u.state.variance) ? u.state.variance : 0.0f;
+    m.epoch = u.state.epoch;
     if (!full) dirty_now.push_back(u.pixel);
   }
-  if (dirty_now.size() > master.pixels() / 4) full = true;  // cheaper to copy everything
+  if (dirty_now.size() > image.pixels() / 4) full = true;  // cheaper to copy everything
   dirty_full[tick_index % kHistory] = full;
 
-  FrameInfo& info = master.info;
+  FrameInfo& info = image.info;
   info.index = tick_index;
   info.wall_time = wall();
   info.virtual_time = r.time;
@@ -144,40 +199,74 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   info.pixels_updated = updates.size();
   const uint32_t e = r.newest_epoch;
   const uint32_t covered = epoch_tag.empty() || epoch_tag[e % kEpochRing] != e ? 0 : epoch_count[e % kEpochRing];
-  info.coverage = master.pixels() ? double(covered) / double(master.pixels()) : 0.0;
+  info.coverage = image.pixels() ? double(covered) / double(image.pixels()) : 0.0;
   info.newest_epoch = e;
   info.mode = r.mode;
   info.dropped_samples = r.dropped;
   info.rejected = rejected;
 
   publish();
-  if (on_tick) on_tick(master);
+  if (on_tick) {
+    update_tick_image(image, full);
+    on_tick(tick_image);
+  }
   ++tick_index;
   return info;
 }
 
-void DisplayThread::Impl::publish() {
-  DisplayImage& img = buf[back];
-  const uint64_t have = synced[back];
-  bool full = img.width != master.width || img.height != master.height || have == 0 ||
-              tick_index + 1 - have > kHistory;
-  for (uint64_t t = have; !full && t <= tick_index; ++t) full = dirty_full[t % kHistory];
-  if (full) {
-    img.width = master.width;
-    img.height = master.height;
-    img.rgb = master.rgb;
-    img.last_update = master.last_update;
-    img.sample_count = master.sample_count;
-    img.variance = master.variance;
-    img.epoch = master.epoch;
-  } else {
-    for (uint64_t t = have; t <= tick_index; ++t)
-      for (uint32_t i : dirty[t % kHistory]) copy_pixel(master, img, i);
+// Brings buf[back] up to the newest published image (the changes of ticks synced[back] ..
+// tick_index - 1), so this tick blends into it in place: one copy per changed pixel and buffer.
+// Clears it instead on a reset or a size change. Returns whether it was cleared.
+bool DisplayThread::Impl::catch_up(int width, int height, bool reset) {
+  PixelImage& img = buf[back];
+  if (reset || newest > 2 || buf[newest].width != width || buf[newest].height != height) {
+    img.reset(width, height);
+    epoch_tag.assign(kEpochRing, 0);
+    epoch_count.assign(kEpochRing, 0);
+    return true;
   }
-  img.info = master.info;
+  const PixelImage& src = buf[newest];
+  const uint64_t have = synced[back];
+  bool full = img.width != width || img.height != height || have == 0 ||
+              have + kHistory <= tick_index;
+  for (uint64_t t = have; !full && t < tick_index; ++t) full = dirty_full[t % kHistory];
+  if (full) {
+    img.width = width;
+    img.height = height;
+    img.px = src.px;
+    return false;
+  }
+  for (uint64_t t = have; t < tick_index; ++t) {
+    const std::vector<uint32_t>& list = dirty[t % kHistory];
+    for (size_t k = 0; k < list.size(); ++k) {
+      if (k + kPrefetch < list.size()) {
+        __builtin_prefetch(&img.px[list[k + kPrefetch]], 1);
+        __builtin_prefetch(&src.px[list[k + kPrefetch]], 0);
+      }
+      img.px[list[k]] = src.px[list[k]];
+    }
+  }
+  return false;
+}
+
+void DisplayThread::Impl::publish() {
   synced[back] = tick_index + 1;
+  newest = back;
   const uint32_t old = middle.exchange(back | kNew, std::memory_order_acq_rel);
   back = old & 3u;
+}
+
+// Brings the callback's public image up to this tick: this tick's dirty pixels when it was
+// current at the previous tick, else everything.
+void DisplayThread::Impl::update_tick_image(const PixelImage& img, bool full) {
+  if (full || tick_image_synced != tick_index || tick_image.width != img.width ||
+      tick_image.height != img.height) {
+    export_image(img, tick_image);
+  } else {
+    for (uint32_t i : dirty[tick_index % kHistory]) export_pixel(img, tick_image, i);
+    tick_image.info = img.info;
+  }
+  tick_image_synced = tick_index + 1;
 }
 
 void DisplayThread::Impl::thread_main() {
@@ -280,9 +369,11 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   if (fresh) {
     const uint32_t old = d.middle.exchange(d.front, std::memory_order_acq_rel);
     d.front = old & 3u;
+    // The public layers are built here, on the consumer's thread, and only for images it takes.
+    export_image(d.buf[d.front], d.latest);
   }
   if (is_new) *is_new = fresh;
-  return d.buf[d.front];
+  return d.latest;
 }
 
 void DisplayThread::set_on_tick(std::function<void(const DisplayImage&)> callback) {

@@ -20,6 +20,8 @@ void Engine::Impl::record_error(const std::string& message) {
 
 namespace {
 
+constexpr size_t kPrefetch = 16;  // collect_updates: pixels ahead whose last_seq is prefetched
+
 int resolve_threads(int requested) {
   if (requested > 0) return requested;
   const unsigned hw = std::thread::hardware_concurrency();
@@ -33,10 +35,6 @@ void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
   e.partition = make_partition({e.cfg.width, e.cfg.height, e.threads, e.cfg.chunk_size,
                                 e.cfg.order, e.cfg.seed});
   const size_t n = size_t(e.cfg.width) * size_t(e.cfg.height);
-  if (clear_pixels || n != e.pixel_count) {
-    e.pixels.reset(new PixelState[n]);
-    e.pixel_count = n;
-  }
   e.jobs = make_tile_jobs(e.cfg.width, e.cfg.height, e.threads);
   e.job_pixels = tile_job_pixels(e.cfg.width, e.cfg.height, e.jobs);
   e.job_first_pixel.assign(1, 0);
@@ -50,6 +48,28 @@ void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
     }
     e.job_first_pixel.push_back(e.job_first_pixel.back() + pixels);
   }
+  // Slots in visiting order (see Engine::Impl::states); a layout change without a resize keeps
+  // every pixel's state, moved to its new slot.
+  std::vector<uint32_t> old_slot_of = std::move(e.slot_of);
+  std::unique_ptr<PixelState[]> old_states = std::move(e.states);
+  const bool keep = !clear_pixels && old_states && n == e.pixel_count;
+  e.thread_first_slot.assign(1, 0);
+  if (e.cfg.mode == RenderMode::frameless) {
+    e.slot_pixel.clear();
+    e.slot_pixel.reserve(n);
+    for (const std::vector<uint32_t>& list : e.partition.pixels) {
+      e.slot_pixel.insert(e.slot_pixel.end(), list.begin(), list.end());
+      e.thread_first_slot.push_back(e.slot_pixel.size());
+    }
+  } else {
+    e.slot_pixel = e.job_pixels;
+  }
+  e.slot_of.assign(n, 0);
+  for (size_t s = 0; s < n; ++s) e.slot_of[e.slot_pixel[s]] = uint32_t(s);
+  e.states.reset(new PixelState[n]);
+  e.pixel_count = n;
+  if (keep)
+    for (size_t p = 0; p < n; ++p) copy_state(old_states[old_slot_of[p]], e.states[e.slot_of[p]]);
   for (auto& b : e.frames.buf) b.assign(n, PixelSnapshot{});
   e.sample_seed_base = mix64(e.scene.settings.seed ^ mix64(e.cfg.seed));
   e.generation.fetch_add(1, std::memory_order_release);
@@ -81,6 +101,7 @@ void Engine::start() {
       FramelessWorker& w = e.workers[size_t(t)];
       w.index = t;
       w.pixels = &e.partition.pixels[size_t(t)];
+      w.first_slot = e.cfg.mode == RenderMode::frameless ? e.thread_first_slot[size_t(t)] : 0;
       const double n = double(w.pixels->size());
       w.interval = std::max<uint64_t>(1, uint64_t(std::ceil(e.cfg.update_percent / 100.0 * n)));
       // Stagger the camera checks so threads do not switch in lockstep.
@@ -279,8 +300,8 @@ CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpd
   }
 
   PixelSnapshot s;
-  auto take = [&](uint32_t idx) {
-    if (!frameless::read_pixel(e.pixels[idx], s)) {
+  auto take = [&](uint32_t idx, size_t slot) {
+    if (!frameless::read_pixel(e.states[slot], s)) {
       ++r.contended;
       return;
     }
@@ -294,18 +315,26 @@ CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpd
       // Counters first: anything published during the scan is collected (again) next time.
       for (int t = 0; t < threads; ++t)
         cursor.thread_updates[size_t(t)] = e.counters[t].updates.load(std::memory_order_acquire);
-      for (uint32_t i = 0; i < e.pixel_count; ++i) take(i);
+      for (size_t i = 0; i < e.pixel_count; ++i) take(e.slot_pixel[i], i);
       return r;
     }
     for (int t = 0; t < threads; ++t) {
       const std::vector<uint32_t>& list = e.partition.pixels[size_t(t)];
+      const size_t first = e.thread_first_slot[size_t(t)];
       const uint64_t n = list.size();
       const uint64_t now = e.counters[t].updates.load(std::memory_order_acquire);
       uint64_t& seen = cursor.thread_updates[size_t(t)];
       if (n == 0 || now == seen) continue;
       // Visit u touched list[u mod n]: the counter alone tells which pixels changed.
       const uint64_t from = now - seen >= n ? now - n : seen;
-      for (uint64_t u = from; u < now; ++u) take(list[size_t(u % n)]);
+      // Consecutive visits are consecutive slots: the reads stream through memory.
+      size_t pos = size_t(from % n);
+      for (uint64_t u = from; u < now; ++u) {
+        // last_seq is per pixel, and the list jumps between chunks: fetch it ahead.
+        __builtin_prefetch(&cursor.last_seq[list[pos + kPrefetch < n ? pos + kPrefetch : pos]], 1);
+        take(list[pos], first + pos);
+        if (++pos == n) pos = 0;
+      }
       seen = now;
     }
     return r;
@@ -366,7 +395,8 @@ const UpdateLog& Engine::update_log(int thread) const {
 bool Engine::read_pixel(int x, int y, PixelSnapshot& out) const {
   const Impl& e = *impl_;
   if (x < 0 || y < 0 || x >= e.cfg.width || y >= e.cfg.height) return false;
-  return frameless::read_pixel(e.pixels[size_t(y) * size_t(e.cfg.width) + size_t(x)], out);
+  const size_t pixel = size_t(y) * size_t(e.cfg.width) + size_t(x);
+  return frameless::read_pixel(e.states[e.slot_of[pixel]], out);
 }
 
 }  // namespace frameless

@@ -28,6 +28,7 @@ struct alignas(64) ThreadCounters {
 struct FramelessWorker {
   int index = 0;
   const std::vector<uint32_t>* pixels = nullptr;  // its pixels in visiting order
+  size_t first_slot = 0;       // state of (*pixels)[i] is states[first_slot + i]
   size_t pos = 0;              // next position in *pixels
   uint64_t updates = 0;        // pixel visits since start
   uint64_t interval = 1;       // visits between camera checks
@@ -66,7 +67,14 @@ struct Engine::Impl {
 
   // Layout (rebuilt by the control thread while render threads are stopped).
   Partition partition;
-  std::unique_ptr<PixelState[]> pixels;
+  // Pixel states are stored in the order their owner visits them (frameless: thread by thread
+  // along each partition list; conventional: job order), so the render threads and the display
+  // walk memory sequentially instead of jumping between scattered chunks. Pixel p lives in
+  // states[slot_of[p]]; slot s holds pixel slot_pixel[s].
+  std::unique_ptr<PixelState[]> states;
+  std::vector<uint32_t> slot_of;
+  std::vector<uint32_t> slot_pixel;
+  std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
   size_t pixel_count = 0;
   int threads = 1;
   std::unique_ptr<ThreadCounters[]> counters;

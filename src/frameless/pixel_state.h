@@ -29,6 +29,21 @@ struct alignas(64) PixelState {
   }
 };
 static_assert(sizeof(PixelState) == 64, "per-pixel state must stay one cache line");
+
+// Copies every field of `from` into `to`; control thread only, while no render thread runs.
+inline void copy_state(const PixelState& from, PixelState& to) {
+  constexpr auto r = std::memory_order_relaxed;
+  to.seq.store(from.seq.load(r), r);
+  to.count.store(from.count.load(r), r);
+  to.epoch.store(from.epoch.load(r), r);
+  to.passes.store(from.passes.load(r), r);
+  for (int c = 0; c < 3; ++c) {
+    to.mean[c].store(from.mean[c].load(r), r);
+    to.sample[c].store(from.sample[c].load(r), r);
+  }
+  to.m2.store(from.m2.load(r), r);
+  to.time.store(from.time.load(r), r);
+}
 static_assert(std::atomic<double>::is_always_lock_free && std::atomic<float>::is_always_lock_free);
 
 // A consistent copy of one pixel's published state (what the display thread blends).

@@ -27,12 +27,12 @@ inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px,
     return trace_sample(e.scene, b, px, py, seed);
 }
 
-// One pixel update: 1 or 2 samples, Welford per sample, publish under the pixel's sequence lock.
+// One pixel update of pixel `idx`, whose state is `p`: 1 or 2 samples, Welford per sample,
+// publish under the pixel's sequence lock.
 // `frame` (conventional) also receives the published snapshot.
 template <bool kCustom>
-inline void update_pixel(Engine::Impl& e, uint32_t idx, const CameraBasis& basis, uint32_t epoch,
-                         float time, ThreadCounters& ctr, PixelSnapshot* frame) {
-  PixelState& p = e.pixels[idx];
+inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const CameraBasis& basis,
+                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame) {
   const uint32_t w = uint32_t(e.partition.width);
   const uint32_t x = idx % w, y = idx / w;
   const uint32_t passes = p.passes.load(std::memory_order_relaxed);
@@ -128,18 +128,19 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
       w.countdown = w.interval;
       refresh_camera(e, w.epoch, w.basis);
     }
-    const uint32_t idx = list[w.pos];
+    const size_t pos = w.pos;
+    const uint32_t idx = list[pos];
+    PixelState& p = e.states[w.first_slot + pos];  // slots follow the list: a sequential walk
     if (++w.pos == n) w.pos = 0;
     // Adaptive sampling (frameless/adaptive.h): a converged pixel's visit renders nothing; the
     // visit counter still advances so the display's cursor arithmetic holds.
     if constexpr (kAdaptive)
-      if (adaptive_skip(e.cfg.adaptive, e.pixels[idx], w.epoch,
-                        w.adaptive.skip_run[(w.pos == 0 ? n : w.pos) - 1])) {
+      if (adaptive_skip(e.cfg.adaptive, p, w.epoch, w.adaptive.skip_run[pos])) {
         ctr.updates.store(++w.updates, std::memory_order_release);
         continue;
       }
     const float time = float(t_begin + dt * double(i));
-    update_pixel<kCustom>(e, idx, w.basis, w.epoch, time, ctr, nullptr);
+    update_pixel<kCustom>(e, idx, p, w.basis, w.epoch, time, ctr, nullptr);
     if (w.log) {
       if (w.log->records.size() < w.log->records.capacity())
         w.log->records.push_back({idx, w.epoch, e.display_tick.load(std::memory_order_relaxed), time});
@@ -185,13 +186,13 @@ void frameless_thread_main(Engine::Impl& e, int t) {
 void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double t_begin, double dt) {
   PixelSnapshot* frame = e.frames.buf[e.frames.back].data();
   ThreadCounters& ctr = e.counters[t];
-  for (size_t i = begin; i < end; ++i) {
+  for (size_t i = begin; i < end; ++i) {  // in conventional mode slot i holds job_pixels[i]
     const uint32_t idx = e.job_pixels[i];
     const float time = float(t_begin + dt * double(i - begin));
     if (e.cfg.shader.fn)
-      update_pixel<true>(e, idx, e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+      update_pixel<true>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
     else
-      update_pixel<false>(e, idx, e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+      update_pixel<false>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
   }
   ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
                     std::memory_order_release);
