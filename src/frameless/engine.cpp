@@ -93,6 +93,7 @@ void Engine::start() {
     std::lock_guard<std::mutex> lock(e.layout_mutex);
     e.stop_flag.store(false, std::memory_order_relaxed);
     e.counters.reset(new ThreadCounters[size_t(e.threads)]);
+    e.counter_count = e.threads;
     e.logs.assign(size_t(e.threads), UpdateLog{});
     if (e.cfg.update_log_capacity > 0)
       for (UpdateLog& l : e.logs) l.records.reserve(e.cfg.update_log_capacity);
@@ -282,7 +283,8 @@ CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpd
   r.height = e.cfg.height;
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
-  const int threads = e.counters ? e.threads : 0;
+  // A thread-count change while stopped takes effect at start(): never index past the counters.
+  const int threads = e.counters ? std::min(e.threads, e.counter_count) : 0;
   for (int t = 0; t < threads; ++t) {
     r.samples += e.counters[t].samples.load(std::memory_order_relaxed);
     r.dropped += e.counters[t].dropped.load(std::memory_order_relaxed);
@@ -365,7 +367,7 @@ EngineStats Engine::stats() const {
   s.camera_epoch = e.channel.epoch();
   s.frames_completed = e.frames.completed.load(std::memory_order_relaxed);
   if (!e.counters) return s;
-  for (int t = 0; t < e.threads; ++t) {
+  for (int t = 0; t < std::min(e.threads, e.counter_count); ++t) {
     ThreadStats ts;
     ts.pixels = e.cfg.mode == RenderMode::frameless ? e.partition.pixels[size_t(t)].size() : 0;
     ts.samples = e.counters[t].samples.load(std::memory_order_relaxed);

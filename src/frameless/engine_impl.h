@@ -78,6 +78,7 @@ struct Engine::Impl {
   size_t pixel_count = 0;
   int threads = 1;
   std::unique_ptr<ThreadCounters[]> counters;
+  int counter_count = 0;  // entries in counters: threads at the last start() (may differ while stopped)
   std::vector<UpdateLog> logs;
   std::vector<FramelessWorker> workers;
   std::vector<TileJob> jobs;
