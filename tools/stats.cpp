@@ -210,7 +210,8 @@ nlohmann::json to_json(const OrderResult& r, int chunk) {
   for (size_t t = 0; t < s.balance.pixels.size(); ++t)
     threads.push_back({{"pixels", s.balance.pixels[t]},
                        {"updates", t < s.balance.updates.size() ? s.balance.updates[t] : 0},
-                       {"samples_per_s", t < s.balance.samples_per_s.size() ? s.balance.samples_per_s[t] : 0.0}});
+                       {"samples_per_s", t < s.balance.samples_per_s.size() ? s.balance.samples_per_s[t] : 0.0},
+                       {"busy_s", t < s.balance.busy_s.size() ? s.balance.busy_s[t] : 0.0}});
   j["balance"] = {{"threads", threads},
                   {"pixel_spread", s.balance.pixel_spread},
                   {"chunk_size", chunk},

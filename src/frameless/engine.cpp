@@ -241,7 +241,9 @@ void Engine::advance(double tick_seconds) {
       const uint64_t count = target - w.budget_done;
       w.budget_done = target;
       const double dt = count ? tick_seconds / double(count) : 0.0;
+      const uint64_t cpu0 = thread_cpu_ns();
       frameless_run(e, w, count, t_begin + dt, dt);
+      e.counters[t].busy_ns.fetch_add(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
     });
   } else {
     // Conventional: the frame advances by per_tick pixels, split evenly over the threads; a pixel's
@@ -374,6 +376,7 @@ EngineStats Engine::stats() const {
     ts.updates = e.counters[t].updates.load(std::memory_order_relaxed);
     ts.dropped = e.counters[t].dropped.load(std::memory_order_relaxed);
     ts.samples_per_s = s.seconds > 0 ? double(ts.samples) / s.seconds : 0.0;
+    ts.busy_seconds = double(e.counters[t].busy_ns.load(std::memory_order_relaxed)) * 1e-9;
     s.samples += ts.samples;
     s.updates += ts.updates;
     s.dropped += ts.dropped;

@@ -24,6 +24,7 @@ struct ThreadStats {
   uint64_t updates = 0;       // pixel updates published since start()
   uint64_t dropped = 0;       // samples dropped for NaN/Inf since start()
   double samples_per_s = 0;   // samples / engine seconds since start()
+  double busy_seconds = 0;    // the thread's CPU time since start() (updated every ~1000 visits)
 };
 
 struct EngineStats {

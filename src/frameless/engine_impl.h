@@ -17,11 +17,15 @@
 
 namespace frameless {
 
+// CPU time of the calling thread in nanoseconds (a syscall: call it rarely).
+uint64_t thread_cpu_ns();
+
 // Per-thread counters, written by the owner only (relaxed), read by anyone.
 struct alignas(64) ThreadCounters {
   std::atomic<uint64_t> updates{0};  // pixel visits since start (drives the display's cursor)
   std::atomic<uint64_t> samples{0};
   std::atomic<uint64_t> dropped{0};
+  std::atomic<uint64_t> busy_ns{0};  // the thread's CPU time since start (sampled, not per update)
 };
 
 // A frameless render thread's private walking state (owned by that thread).

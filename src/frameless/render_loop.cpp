@@ -2,6 +2,7 @@
 // publish), the frameless walking loop and the conventional job loop. The per-sample path holds
 // no lock, allocates nothing and makes no system call.
 #include <cmath>
+#include <ctime>
 
 #include "core/rng.h"
 #include "frameless/adaptive.h"
@@ -169,13 +170,26 @@ void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t
   }
 }
 
+uint64_t thread_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
 void frameless_thread_main(Engine::Impl& e, int t) {
   enable_flush_to_zero();
   try {
     FramelessWorker& w = e.workers[size_t(t)];
     // Batches of visits share one clock reading; the stop flag is checked between batches.
     constexpr uint64_t kBatch = 16;
-    while (!e.stop_flag.load(std::memory_order_relaxed)) frameless_run(e, w, kBatch, e.now(), 0.0);
+    const uint64_t cpu0 = thread_cpu_ns();
+    ThreadCounters& ctr = e.counters[t];
+    // Busy time for the balance statistics: one clock read per 64 batches keeps it off the hot path.
+    for (uint64_t batch = 1; !e.stop_flag.load(std::memory_order_relaxed); ++batch) {
+      frameless_run(e, w, kBatch, e.now(), 0.0);
+      if (batch % 64 == 0) ctr.busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
+    }
+    ctr.busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
   } catch (const std::exception& ex) {
     e.record_error(std::string("render thread ") + std::to_string(t) + ": " + ex.what());
   } catch (...) {

@@ -132,6 +132,7 @@ BalanceStats analyze_balance(const UpdateTrace& t) {
   b.pixels = t.thread_pixels;
   for (const auto& log : t.logs) b.updates.push_back(log.size());
   b.samples_per_s = t.thread_samples_per_s;
+  b.busy_s = t.thread_busy_s;
   if (!b.pixels.empty()) {
     const auto [lo, hi] = std::minmax_element(b.pixels.begin(), b.pixels.end());
     b.pixel_spread = *hi - *lo;

@@ -25,6 +25,7 @@ struct UpdateTrace {
   uint64_t overflow = 0;                  // updates that did not fit the logs
   std::vector<uint64_t> thread_pixels;    // pixels owned per thread (the partition)
   std::vector<double> thread_samples_per_s;  // engine counters, per thread
+  std::vector<double> thread_busy_s;         // render-thread CPU seconds, per thread
   double sweep_seconds = 0;               // engine seconds for one update of every pixel
   double run_seconds = 0;                 // engine seconds the run lasted
   double samples_per_s = 0;               // whole engine, this run
@@ -70,6 +71,7 @@ struct BalanceStats {
   std::vector<uint64_t> pixels;       // per thread
   std::vector<uint64_t> updates;      // per thread (logged + overflow share unknown: logged only)
   std::vector<double> samples_per_s;  // per thread
+  std::vector<double> busy_s;         // per thread: CPU seconds the render thread ran
   uint64_t pixel_spread = 0;          // max - min pixels
   bool within_one_chunk = true;       // pixel_spread <= chunk_size
 };

@@ -47,6 +47,7 @@ void collect(const Engine& engine, UpdateTrace& t) {
     t.overflow += log.overflow;
     t.thread_pixels.push_back(p.pixels[size_t(i)].size());
     t.thread_samples_per_s.push_back(size_t(i) < st.threads.size() ? st.threads[size_t(i)].samples_per_s : 0.0);
+    t.thread_busy_s.push_back(size_t(i) < st.threads.size() ? st.threads[size_t(i)].busy_seconds : 0.0);
   }
   t.samples_per_s = st.samples_per_s;
   t.run_seconds = st.seconds;

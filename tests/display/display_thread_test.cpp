@@ -36,7 +36,7 @@ EngineConfig deterministic_config(RenderMode mode, uint64_t seed, SampleResult (
 }
 
 std::vector<DisplayImage> run_deterministic(RenderMode mode, uint64_t seed, int ticks) {
-  Engine e(Scene{}, deterministic_config(mode, seed), camera_at(0));
+  Engine e(kEmptyScene, deterministic_config(mode, seed), camera_at(0));
   DisplayThread d(e, {});
   std::vector<DisplayImage> frames;
   for (int k = 0; k < ticks; ++k) {
@@ -62,7 +62,7 @@ TEST(DisplayThread, DeterministicRunsGiveIdenticalImages) {
 
 TEST(DisplayThread, NonFiniteSamplesNeverDisplayed) {
   for (RenderMode mode : {RenderMode::frameless, RenderMode::conventional}) {
-    Engine e(Scene{}, deterministic_config(mode, 1, nan_shader), camera_at(0));
+    Engine e(kEmptyScene, deterministic_config(mode, 1, nan_shader), camera_at(0));
     DisplayThread d(e, {});
     FrameInfo info;
     for (int k = 0; k < 15; ++k) info = d.step();
@@ -74,7 +74,7 @@ TEST(DisplayThread, NonFiniteSamplesNeverDisplayed) {
 }
 
 TEST(DisplayThread, CoverageRisesToOneAfterACameraChange) {
-  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  Engine e(kEmptyScene, deterministic_config(RenderMode::frameless, 1), camera_at(0));
   DisplayThread d(e, {});
   for (int k = 0; k < 10; ++k) d.step();
   EXPECT_DOUBLE_EQ(d.step().coverage, 1.0);
@@ -94,7 +94,7 @@ TEST(DisplayThread, CoverageRisesToOneAfterACameraChange) {
 TEST(DisplayThread, ConventionalShowsOnlyCompletedFrames) {
   EngineConfig c = deterministic_config(RenderMode::conventional, 1);
   c.samples_per_tick = 1000;  // 500 pixel updates per tick: a frame takes several ticks
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kEmptyScene, c, camera_at(0));
   DisplayThread d(e, {});
   int frames = 0;
   for (int k = 0; k < 20; ++k) {
@@ -112,7 +112,7 @@ TEST(DisplayThread, ConventionalShowsOnlyCompletedFrames) {
 TEST(DisplayThread, StillImageShowsTheRunningMean) {
   EngineConfig c = deterministic_config(RenderMode::frameless, 1);
   c.track_variance = true;  // off by default: this test reads it
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kEmptyScene, c, camera_at(0));
   DisplayThread d(e, {});
   for (int k = 0; k < 40; ++k) d.step();
   const DisplayImage& img = d.acquire_latest();
@@ -126,7 +126,7 @@ TEST(DisplayThread, StillImageShowsTheRunningMean) {
 }
 
 TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
-  Engine e(Scene{}, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  Engine e(kEmptyScene, deterministic_config(RenderMode::frameless, 1), camera_at(0));
   DisplayThread d(e, {});
   DisplayImage seen;
   d.set_on_tick([&](const DisplayImage& img) { seen = img; });
@@ -146,7 +146,7 @@ TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
 
 TEST(DisplayThread, WallClockAt240HzWithCameraStorm) {
   EngineConfig c = test_config(64, 48, 4, eye_shader);
-  Engine e(Scene{}, c, camera_at(1.0f));
+  Engine e(kEmptyScene, c, camera_at(1.0f));
   DisplayConfig dc;
   dc.refresh_hz = 240;
   DisplayThread d(e, dc);

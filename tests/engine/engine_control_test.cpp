@@ -35,3 +35,27 @@ TEST(EngineReconfigure, MoreThreadsWhileStoppedThenCollectAndRestart) {
 
 }  // namespace
 }  // namespace frameless::testing
+
+namespace frameless::testing {
+namespace {
+
+// Busy time feeds the balance statistics: every thread that rendered reports CPU time, and
+// no thread reports more CPU time than the run lasted (plus scheduling slack).
+TEST(EngineInstrumentation, BusyTimePerThreadInDeterministicMode) {
+  const Scene scene;
+  EngineConfig c = test_config(64, 48, 3, noisy_shader);
+  c.deterministic = true;
+  c.samples_per_tick = 20000;
+  Engine e(scene, c, camera_at(0));
+  e.start();
+  for (int k = 0; k < 20; ++k) e.advance(0.01);
+  const EngineStats s = e.stats();
+  ASSERT_EQ(s.threads.size(), 3u);
+  for (const ThreadStats& t : s.threads) {
+    EXPECT_GT(t.samples, 0u);
+    EXPECT_GT(t.busy_seconds, 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace frameless::testing

@@ -54,7 +54,7 @@ TEST(Engine, CameraPickupWithinUpdatePercentBound) {
     c.update_percent = percent;
     c.samples_per_tick = 1000;
     c.update_log_capacity = 100000;
-    Engine e(Scene{}, c, camera_at(0));
+    Engine e(kEmptyScene, c, camera_at(0));
     for (int k = 0; k < 7; ++k) e.advance(0.01);
     std::vector<size_t> before;
     for (int t = 0; t < 3; ++t) before.push_back(e.update_log(t).records.size());
@@ -88,7 +88,7 @@ TEST(Engine, DeterministicRunsAreBitIdentical) {
       c.mode = mode;
       c.seed = seed;
       c.samples_per_tick = 700;
-      Engine e(Scene{}, c, camera_at(0));
+      Engine e(kEmptyScene, c, camera_at(0));
       for (int k = 0; k < 30; ++k) {
         if (k == 10) e.publish_camera(camera_at(0.5f));
         if (k == 17) e.publish_camera(camera_at(-0.5f));
@@ -108,7 +108,7 @@ TEST(Engine, NonFiniteSamplesAreDroppedAndCounted) {
     c.deterministic = true;
     c.mode = mode;
     c.samples_per_tick = 600;
-    Engine e(Scene{}, c, camera_at(0));
+    Engine e(kEmptyScene, c, camera_at(0));
     for (int k = 0; k < 12; ++k) e.advance(0.01);
     const EngineStats s = e.stats();
     EXPECT_GT(s.dropped, 0u);
@@ -127,7 +127,7 @@ TEST(Engine, StillCameraConvergesAndMovingCameraRestarts) {
   c.deterministic = true;
   c.samples_per_tick = 256 * 2;  // one sweep per tick
   c.track_variance = true;       // off by default: this test reads it
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kEmptyScene, c, camera_at(0));
   for (int k = 0; k < 50; ++k) e.advance(0.01);
   PixelSnapshot p;
   ASSERT_TRUE(e.read_pixel(3, 9, p));
@@ -145,7 +145,7 @@ TEST(Engine, StillCameraConvergesAndMovingCameraRestarts) {
 
 TEST(Engine, WallClockRendersAndReconfigures) {
   EngineConfig c = test_config(40, 30, 2, noisy_shader);
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kEmptyScene, c, camera_at(0));
   e.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_GT(e.stats().samples, 0u);
@@ -167,7 +167,7 @@ TEST(Engine, FailingRenderThreadStopsEngineWithError) {
   for (bool deterministic : {false, true}) {
     EngineConfig c = test_config(20, 20, 2, throwing_shader);
     c.deterministic = deterministic;
-    Engine e(Scene{}, c, camera_at(0));
+    Engine e(kEmptyScene, c, camera_at(0));
     e.start();
     for (int k = 0; k < 400 && !e.error(); ++k) {
       if (deterministic)
@@ -183,9 +183,9 @@ TEST(Engine, FailingRenderThreadStopsEngineWithError) {
 TEST(Engine, RejectsInvalidConfigAndCamera) {
   EngineConfig c = test_config(20, 20, 1, noisy_shader);
   c.update_percent = 0.001;
-  EXPECT_THROW(Engine(Scene{}, c, camera_at(0)), std::invalid_argument);
+  EXPECT_THROW(Engine(kEmptyScene, c, camera_at(0)), std::invalid_argument);
   c.update_percent = 1;
-  Engine e(Scene{}, c, camera_at(0));
+  Engine e(kEmptyScene, c, camera_at(0));
   Camera bad = camera_at(0);
   bad.look = bad.eye;
   EXPECT_THROW(e.publish_camera(bad), std::invalid_argument);

@@ -24,7 +24,7 @@ TEST(ExchangeStress, NoTornPixelsUnderCameraStorm) {
     EngineConfig c = test_config(96, 64, 4, eye_shader);
     c.mode = mode;
     c.update_percent = 0.5;
-    Engine e(Scene{}, c, camera_at(1.0f));  // epoch 1 paints 1.0
+    Engine e(kEmptyScene, c, camera_at(1.0f));  // epoch 1 paints 1.0
     e.start();
     std::atomic<bool> done{false};
     uint64_t collected = 0, bad = 0, backwards = 0;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/rng.h"
+#include "core/scene.h"
 #include "frameless/engine_config.h"
 
 namespace frameless::testing {
@@ -40,6 +41,9 @@ inline SampleResult throwing_shader(const void* c, const CameraBasis& b, float p
   if (int(px) == 5 && int(py) == 5) throw std::runtime_error("shader exploded at (5, 5)");
   return noisy_shader(c, b, px, py, seed);
 }
+
+// An empty scene that outlives every engine in a test (engines keep a reference to their scene).
+inline const Scene kEmptyScene{};
 
 inline Camera camera_at(float x) {
   Camera c;
