@@ -32,6 +32,7 @@ struct CaptureArgs {
   bool no_converge = false;
   uint64_t samples_per_tick = 0;
   bool no_jitter = false;
+  bool adaptive = false;
   bool no_sheet = false, no_mp4 = false;
   CameraFlags camera;
 };
@@ -64,6 +65,7 @@ int run(const CaptureArgs& a) {
   e.deterministic = a.deterministic;
   e.samples_per_tick = a.samples_per_tick;
   e.jitter = !a.no_jitter;
+  e.adaptive.enabled = a.adaptive;  // converged pixels skipped (docs/adaptive.md)
   // Variance is tracked only when the capture writes the variance layer.
   for (const std::string& l : o.layers) e.track_variance |= l == "variance";
   const auto mode = parse_render_mode(a.mode);
@@ -154,6 +156,8 @@ const bool registered = register_command(
       app.add_option("--samples-per-tick", a->samples_per_tick,
                      "deterministic: samples per refresh over all threads (0: engine default)");
       app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
+      app.add_flag("--adaptive", a->adaptive,
+                   "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
       app.add_flag("--no-contact-sheet", a->no_sheet, "skip contact_sheet.png");
       app.add_flag("--no-mp4", a->no_mp4, "skip sequence.mp4 even when ffmpeg is installed");
       a->camera.add_to(app);

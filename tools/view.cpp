@@ -22,6 +22,7 @@ struct ViewArgs {
   float alpha = 0.5f;
   bool time_decay = false;
   bool no_jitter = false;
+  bool adaptive = false;
   std::string record, script, screenshot, snapshot_dir = "captures";
   int frames = 0;
   bool help_overlay = false;
@@ -38,6 +39,7 @@ int run(const ViewArgs& a) {
   e.update_percent = a.update_percent;
   e.seed = a.seed;
   e.jitter = !a.no_jitter;
+  e.adaptive.enabled = a.adaptive;  // converged pixels skipped (docs/adaptive.md)
   e.track_variance = true;  // the viewer's variance view reads it
   const auto mode = parse_render_mode(a.mode);
   if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
@@ -86,6 +88,8 @@ const bool registered = register_command(
           ->capture_default_str();
       app.add_flag("--time-decay", a->time_decay, "alpha from the time since a pixel's last blend");
       app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
+      app.add_flag("--adaptive", a->adaptive,
+                   "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
       app.add_option("--record", a->record,
                      "write the camera poses with timestamps to FILE (replay: capture --path FILE)");
       app.add_option("--script", a->script,
