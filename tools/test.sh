@@ -22,6 +22,7 @@ section "ASan+UBSan build and tests (core, display, cli)"
 tools/build.sh build/asan -DFRAMELESS_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- core_tests display_tests cli_tests frameless
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
   ctest -j"$jobs" --output-on-failure -LE engine -E '_NOT_BUILT$')
 
 section "ThreadSanitizer build and tests (engine concurrency)"
