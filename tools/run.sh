@@ -16,8 +16,8 @@ if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
   echo "the viewer could not open a window; making a headless capture instead" >&2
 fi
 out=captures/default
-"$bin" capture default --out "$out" --size 480x360 --duration 3 --refresh 30 --orbit 40 \
-  --cut-at 2 --layers age,count "$@"
+"$bin" capture default --out "$out" --size 480x360 --duration 3 --refresh 30 --orbit 30 \
+  --cut-at 2 --cut-orbit -35 --layers age,count "$@"
 echo
 echo "headless capture of the frameless display written to $out/:"
 echo "  $out/contact_sheet.png   every frame at a glance (open it in any image viewer)"
