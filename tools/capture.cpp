@@ -8,6 +8,7 @@
 #include "display/capture.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
+#include "tools/engine_flags.h"
 
 namespace frameless::cli {
 namespace {
@@ -22,17 +23,9 @@ struct CaptureArgs {
   std::string layers;
   std::string path_file;
   double orbit = 0.0, dolly = 1.0, cut_at = -1.0, cut_orbit = 90.0;
-  int threads = 0;
-  int chunk = 64;
-  double update_percent = 1.0;
-  uint64_t seed = 1;
-  std::string mode = "frameless";
-  float alpha = 0.5f;
-  bool time_decay = false;
+  EngineFlags engine;
   bool no_converge = false;
   uint64_t samples_per_tick = 0;
-  bool no_jitter = false;
-  bool adaptive = false;
   bool no_sheet = false, no_mp4 = false;
   CameraFlags camera;
 };
@@ -58,23 +51,12 @@ int run(const CaptureArgs& a) {
   std::string error;
   EngineConfig& e = o.engine;
   if (!parse_size(a.size, e.width, e.height, error)) return report_error(error);
-  e.threads = a.threads > 0 ? a.threads : hardware_threads();
-  e.chunk_size = a.chunk;
-  e.update_percent = a.update_percent;
-  e.seed = a.seed;
+  if (!a.engine.apply(e, o.blend, error)) return report_error(error);
   e.deterministic = a.deterministic;
   e.samples_per_tick = a.samples_per_tick;
-  e.jitter = !a.no_jitter;
-  e.adaptive.enabled = a.adaptive;  // converged pixels skipped (docs/adaptive.md)
   // Variance is tracked only when the capture writes the variance layer.
   for (const std::string& l : o.layers) e.track_variance |= l == "variance";
-  const auto mode = parse_render_mode(a.mode);
-  if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
-  e.mode = *mode;
-  o.blend.alpha = a.alpha;
-  o.blend.time_decay = a.time_decay;
   o.blend.converge = !a.no_converge;
-  if (!(a.alpha > 0.0f && a.alpha <= 1.0f)) return report_error("--alpha: must be in (0, 1]");
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
   // The output folder is checked before the scene is even loaded: a bad --out fails at once.
   if (auto d = prepare_output_dir(o.out_dir); !d.ok()) return report_error(d.error().message);
@@ -142,22 +124,10 @@ const bool registered = register_command(
       app.add_option("--cut-at", a->cut_at, "sudden camera cut at T seconds");
       app.add_option("--cut-orbit", a->cut_orbit, "the cut jumps by this many degrees of orbit")
           ->capture_default_str();
-      app.add_option("--threads", a->threads, "render threads (default: all cores)");
-      app.add_option("--chunk", a->chunk, "pixels per Hilbert chunk")->capture_default_str();
-      app.add_option("--update-percent", a->update_percent,
-                     "a thread picks up a new camera after this % of its pixels (0.01..100)")
-          ->capture_default_str();
-      app.add_option("--seed", a->seed, "seed of samples and shuffles")->capture_default_str();
-      app.add_option("--mode", a->mode, "frameless or conventional")->capture_default_str();
-      app.add_option("--alpha", a->alpha, "decay: displayed <- displayed (1-a) + sample a")
-          ->capture_default_str();
-      app.add_flag("--time-decay", a->time_decay, "alpha from the time since a pixel's last blend");
+      a->engine.add_to(app);
       app.add_flag("--no-converge", a->no_converge, "always blend (never show the running mean)");
       app.add_option("--samples-per-tick", a->samples_per_tick,
                      "deterministic: samples per refresh over all threads (0: engine default)");
-      app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
-      app.add_flag("--adaptive", a->adaptive,
-                   "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
       app.add_flag("--no-contact-sheet", a->no_sheet, "skip contact_sheet.png");
       app.add_flag("--no-mp4", a->no_mp4, "skip sequence.mp4 even when ffmpeg is installed");
       a->camera.add_to(app);

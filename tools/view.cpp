@@ -6,6 +6,7 @@
 #include "display/glfw_viewer.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
+#include "tools/engine_flags.h"
 
 namespace frameless::cli {
 namespace {
@@ -14,15 +15,7 @@ struct ViewArgs {
   std::string scene = "default";
   std::string size = "640x480";
   double refresh = 60.0;
-  int threads = 0;
-  int chunk = 64;
-  double update_percent = 1.0;
-  uint64_t seed = 1;
-  std::string mode = "frameless";
-  float alpha = 0.5f;
-  bool time_decay = false;
-  bool no_jitter = false;
-  bool adaptive = false;
+  EngineFlags engine;
   std::string record, script, screenshot, snapshot_dir = "captures";
   int frames = 0;
   bool help_overlay = false;
@@ -34,22 +27,11 @@ int run(const ViewArgs& a) {
   std::string error;
   EngineConfig& e = o.engine;
   if (!parse_size(a.size, e.width, e.height, error)) return report_error(error);
-  e.threads = a.threads > 0 ? a.threads : hardware_threads();
-  e.chunk_size = a.chunk;
-  e.update_percent = a.update_percent;
-  e.seed = a.seed;
-  e.jitter = !a.no_jitter;
-  e.adaptive.enabled = a.adaptive;  // converged pixels skipped (docs/adaptive.md)
+  if (!a.engine.apply(e, o.blend, error)) return report_error(error);
   e.track_variance = true;  // the viewer's variance view reads it
-  const auto mode = parse_render_mode(a.mode);
-  if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
-  e.mode = *mode;
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
   if (!(a.refresh >= 1.0 && a.refresh <= 240.0)) return report_error("--refresh: must be 1..240 Hz");
-  if (!(a.alpha > 0.0f && a.alpha <= 1.0f)) return report_error("--alpha: must be in (0, 1]");
   o.refresh_hz = a.refresh;
-  o.blend.alpha = a.alpha;
-  o.blend.time_decay = a.time_decay;
   o.record_path = a.record;
   o.script_path = a.script;
   o.max_frames = a.frames;
@@ -77,19 +59,7 @@ const bool registered = register_command(
           ->capture_default_str();
       app.add_option("--size", a->size, "window size WxH")->capture_default_str();
       app.add_option("--refresh", a->refresh, "display refresh rate, 1..240 Hz")->capture_default_str();
-      app.add_option("--threads", a->threads, "render threads (default: all cores)");
-      app.add_option("--chunk", a->chunk, "pixels per Hilbert chunk")->capture_default_str();
-      app.add_option("--update-percent", a->update_percent,
-                     "a thread picks up a new camera after this % of its pixels (0.01..100)")
-          ->capture_default_str();
-      app.add_option("--seed", a->seed, "seed of samples and shuffles")->capture_default_str();
-      app.add_option("--mode", a->mode, "frameless or conventional")->capture_default_str();
-      app.add_option("--alpha", a->alpha, "decay: displayed <- displayed (1-a) + sample a")
-          ->capture_default_str();
-      app.add_flag("--time-decay", a->time_decay, "alpha from the time since a pixel's last blend");
-      app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
-      app.add_flag("--adaptive", a->adaptive,
-                   "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
+      a->engine.add_to(app);
       app.add_option("--record", a->record,
                      "write the camera poses with timestamps to FILE (replay: capture --path FILE)");
       app.add_option("--script", a->script,

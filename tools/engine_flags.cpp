@@ -1,0 +1,45 @@
+#include "tools/engine_flags.h"
+
+#include "tools/common_options.h"
+
+namespace frameless::cli {
+
+void EngineFlags::add_to(CLI::App& app) {
+  app.add_option("--threads", threads, "render threads (default: all cores)");
+  app.add_option("--chunk", chunk, "pixels per Hilbert chunk")->capture_default_str();
+  app.add_option("--update-percent", update_percent,
+                 "a thread picks up a new camera after this % of its pixels (0.01..100)")
+      ->capture_default_str();
+  app.add_option("--seed", seed, "seed of samples and shuffles")->capture_default_str();
+  app.add_option("--mode", mode, "frameless or conventional")->capture_default_str();
+  app.add_option("--alpha", alpha, "decay: displayed <- displayed (1-a) + sample a")
+      ->capture_default_str();
+  app.add_flag("--time-decay", time_decay, "alpha from the time since a pixel's last blend");
+  app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
+  app.add_flag("--adaptive", adaptive,
+               "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
+}
+
+bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error) const {
+  const auto parsed = parse_render_mode(mode);
+  if (!parsed) {
+    error = "--mode: expected frameless or conventional, got '" + mode + "'";
+    return false;
+  }
+  if (!(alpha > 0.0f && alpha <= 1.0f)) {
+    error = "--alpha: must be in (0, 1]";
+    return false;
+  }
+  e.mode = *parsed;
+  e.threads = threads > 0 ? threads : hardware_threads();
+  e.chunk_size = chunk;
+  e.update_percent = update_percent;
+  e.seed = seed;
+  e.jitter = !no_jitter;
+  e.adaptive.enabled = adaptive;  // converged pixels skipped (docs/adaptive.md)
+  blend.alpha = alpha;
+  blend.time_decay = time_decay;
+  return true;
+}
+
+}  // namespace frameless::cli

@@ -1,0 +1,28 @@
+// Engine and blend options shared by `view` and `capture`; main thread only.
+#pragma once
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "display/blend.h"
+#include "frameless/engine_config.h"
+
+namespace frameless::cli {
+
+struct EngineFlags {
+  int threads = 0;
+  int chunk = 64;
+  double update_percent = 1.0;
+  uint64_t seed = 1;
+  std::string mode = "frameless";
+  float alpha = 0.5f;
+  bool time_decay = false;
+  bool no_jitter = false;
+  bool adaptive = false;
+  void add_to(CLI::App& app);
+  // Fills the engine and blend settings; false with a one-line message for a bad mode or alpha.
+  // The caller still runs validate(engine) once it has set its own fields.
+  bool apply(EngineConfig& engine, BlendConfig& blend, std::string& error) const;
+};
+
+}  // namespace frameless::cli
