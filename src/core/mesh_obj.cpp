@@ -9,21 +9,10 @@
 #include <tiny_obj_loader.h>
 
 #include "core/scene_io.h"
+#include "core/text_tokens.h"
 
 namespace frameless {
 namespace {
-
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-std::string_view next_token(std::string_view& s) {
-  size_t i = 0;
-  while (i < s.size() && is_space(s[i])) ++i;
-  size_t j = i;
-  while (j < s.size() && !is_space(s[j])) ++j;
-  std::string_view tok = s.substr(i, j - i);
-  s.remove_prefix(j);
-  return tok;
-}
 
 Error line_error(const std::string& path, size_t line, const std::string& what) {
   return Error{path + ":" + std::to_string(line) + ": " + what};

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "core/scene_io.h"
+#include "core/text_tokens.h"
 
 namespace frameless {
 namespace {
@@ -54,18 +55,6 @@ struct Element {
 };
 
 enum class Format : uint8_t { kAscii, kLittle, kBig };
-
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-std::string_view next_token(std::string_view& s) {
-  size_t i = 0;
-  while (i < s.size() && is_space(s[i])) ++i;
-  size_t j = i;
-  while (j < s.size() && !is_space(s[j])) ++j;
-  std::string_view tok = s.substr(i, j - i);
-  s.remove_prefix(j);
-  return tok;
-}
 
 std::string shown(std::string_view s) {
   // Built by append: GCC 12 warns falsely (-Wrestrict) on "'" + std::string.
