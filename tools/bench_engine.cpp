@@ -87,8 +87,23 @@ Throughput throughput(const Scene& scene, EngineConfig c, const Camera& camera, 
           double(b.samples - a.samples) / std::max(1e-9, c1 - c0)};
 }
 
-// Display-thread CPU time as a fraction of one core while the engine renders.
-double display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+struct DisplayCost {
+  double cpu_fraction = 0;       // display-thread CPU time / wall time
+  double updates_per_s = 0;      // pixel updates it blended per second
+  double ns_per_update = 0;      // its CPU time per blended update
+  double consumer_fraction = 0;  // CPU of a consumer taking an image per tick (acquire_latest)
+};
+
+// Display-thread CPU time as a fraction of one core while the engine renders; then, separately
+// (so it does not take CPU from the render threads during the first measurement), the CPU of a
+// consumer that takes every new image as the viewer's presentation thread does.
+DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
   c.width = 1280;
   c.height = 720;
   Engine e(scene, c, camera);
@@ -101,9 +116,27 @@ double display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, dou
   const DisplayStats s0 = d.stats();
   sleep_s(seconds);
   const DisplayStats s1 = d.stats();
+  double consumer_cpu = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto end = t0 + std::chrono::duration<double>(std::max(0.5, seconds / 2));
+  while (std::chrono::steady_clock::now() < end) {
+    const double c0 = thread_cpu_seconds();
+    d.acquire_latest();
+    consumer_cpu += thread_cpu_seconds() - c0;
+    sleep_s(1.0 / 120.0);  // polls at twice the display rate, so it takes every image
+  }
+  const double consumer_wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   d.stop();
   e.stop();
-  return (s1.cpu_seconds - s0.cpu_seconds) / std::max(1e-9, s1.wall_seconds - s0.wall_seconds);
+  const double wall = std::max(1e-9, s1.wall_seconds - s0.wall_seconds);
+  const double updates = double(s1.pixels_updated - s0.pixels_updated);
+  DisplayCost r;
+  r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;
+  r.updates_per_s = updates / wall;
+  r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
+  r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
+  return r;
 }
 
 struct Latency {
@@ -176,7 +209,7 @@ int run_bench(const BenchArgs& a) {
     // overhead is the median of the per-pair ratios.
     EngineConfig cc = c;
     cc.mode = RenderMode::conventional;
-    std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus;
+    std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus, ups, nspu, cons;
     for (int k = 0; k < std::max(1, a.repeats); ++k) {
       note("frameless throughput");
       const Throughput f = throughput(*scene, c, camera, a.seconds);
@@ -189,7 +222,11 @@ int run_bench(const BenchArgs& a) {
       ratio.push_back(f.per_s / v.per_s);
       ratio_cpu.push_back(f.per_cpu_s / v.per_cpu_s);
       note("display CPU at 60 Hz, 1280x720");
-      cpus.push_back(display_cpu(*scene, c, camera, a.seconds));
+      const DisplayCost dcost = display_cpu(*scene, c, camera, a.seconds);
+      cpus.push_back(dcost.cpu_fraction);
+      ups.push_back(dcost.updates_per_s);
+      nspu.push_back(dcost.ns_per_update);
+      cons.push_back(dcost.consumer_fraction);
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -220,6 +257,9 @@ int run_bench(const BenchArgs& a) {
     j["display_cpu_fraction"] = cpu;
     j["display_size"] = "1280x720";
     j["display_hz"] = 60;
+    j["display_updates_per_s"] = median(ups);
+    j["display_ns_per_update"] = median(nspu);
+    j["consumer_cpu_fraction"] = median(cons);
     j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
     j["latency_ideal_ms"] = median(ideal);
     j["latency_repeats"] = p50.size();
@@ -232,7 +272,9 @@ int run_bench(const BenchArgs& a) {
                   fl * 1e-6, conv * 1e-6, 100.0 * overhead);
       std::printf("per CPU second: frameless %.3f M, conventional %.3f M (overhead %.1f%%)\n",
                   median(fl_cpu) * 1e-6, median(conv_cpu) * 1e-6, 100.0 * overhead_cpu);
-      std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core\n", 100.0 * cpu);
+      std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core (%.2f M updates/s, %.1f ns each)\n",
+                  100.0 * cpu, median(ups) * 1e-6, median(nspu));
+      std::printf("consumer taking each image (acquire_latest): %.2f%% of one core\n", 100.0 * median(cons));
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Builds and runs every test: Release suite, then ASan+UBSan (all but the engine's concurrency
-# suite), then ThreadSanitizer (engine suite), then the scene/mesh parser fuzzer for a bounded time.
+# Builds and runs every test: Release suite, then ASan+UBSan (all but the concurrency suites),
+# then ThreadSanitizer (engine and exchange suites), then the scene/mesh parser fuzzer for a bounded time.
 # Usage: tools/test.sh [--quick]   (--quick: Release suite only)
 # Env: FRAMELESS_FUZZ_SECONDS (default 45), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
@@ -18,18 +18,18 @@ tools/build.sh build/release
 (cd build/release && ctest -j"$jobs" --output-on-failure)
 [ $quick = 1 ] && exit 0
 
-section "ASan+UBSan build and tests (core, display, cli)"
+section "ASan+UBSan build and tests (core, display, cli; the concurrency suites run under TSan)"
 tools/build.sh build/asan -DFRAMELESS_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- core_tests display_tests cli_tests frameless
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
-  ctest -j"$jobs" --output-on-failure -LE engine -E '_NOT_BUILT$')
+  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange' -E '_NOT_BUILT$')
 
-section "ThreadSanitizer build and tests (engine concurrency)"
+section "ThreadSanitizer build and tests (engine and render -> display -> consumer exchange)"
 tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- engine_tests
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- engine_tests exchange_tests
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
-  ctest -j"$jobs" --output-on-failure -L engine)
+  ctest -j"$jobs" --output-on-failure -L 'engine|exchange')
 
 if [ -f tests/fuzz/CMakeLists.txt ]; then
   section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-45} s)"

@@ -26,11 +26,42 @@ float decay_alpha(float dt, float decay_seconds);
 // (whose variance is a / (2 - a) of one sample's): n >= (2 - a) / a.
 uint32_t converge_count(float alpha);
 
+// A BlendConfig resolved once per tick, so the per-pixel blend does no divisions or calls.
+struct BlendRule {
+  explicit BlendRule(const BlendConfig& c) : config(c), converge_after(converge_count(c.alpha)) {}
+  BlendConfig config;
+  uint32_t converge_after;  // converge_count(config.alpha)
+};
+
 // New displayed colour of one pixel. `previous`: displayed colour, `previous_epoch`/`previous_time`:
 // its layers (epoch 0 = never shown). Conventional frames are shown as they are (their running
 // mean). The result is always finite: a non-finite input keeps `previous` and sets *rejected.
-Vec3 blend_pixel(const BlendConfig& config, bool conventional, const Vec3& previous,
-                 uint32_t previous_epoch, float previous_time, const PixelSnapshot& update,
-                 bool* rejected);
+inline Vec3 blend_pixel(const BlendRule& rule, bool conventional, const Vec3& previous,
+                        uint32_t previous_epoch, float previous_time, const PixelSnapshot& u,
+                        bool* rejected) {
+  const BlendConfig& config = rule.config;
+  Vec3 result;
+  if (conventional || previous_epoch == 0) {
+    // A completed frame, or a pixel shown for the first time: take it whole.
+    result = conventional ? u.mean : u.sample;
+  } else if (config.converge && u.epoch == previous_epoch && u.count >= rule.converge_after) {
+    // Camera unchanged and the running mean now beats the blend: a still image sharpens.
+    result = u.mean;
+  } else {
+    const float a = config.time_decay ? decay_alpha(u.time - previous_time, config.decay_seconds)
+                                      : config.alpha;
+    result = blend(previous, u.sample, a);
+  }
+  const bool bad = !is_finite(result);
+  if (rejected) *rejected = bad;
+  return bad ? (is_finite(previous) ? previous : Vec3(0.0f)) : result;
+}
+
+inline Vec3 blend_pixel(const BlendConfig& config, bool conventional, const Vec3& previous,
+                        uint32_t previous_epoch, float previous_time, const PixelSnapshot& update,
+                        bool* rejected) {
+  return blend_pixel(BlendRule(config), conventional, previous, previous_epoch, previous_time,
+                     update, rejected);
+}
 
 }  // namespace frameless

@@ -1,8 +1,9 @@
 // Display thread: collect -> blend -> publish through a triple buffer whose back buffer is
-// brought up to date from short per-tick dirty lists, so a tick costs in proportion to the pixels
-// that changed, not to the image size. The display thread keeps one 32-byte struct per pixel (a
-// blend or copy touches half a cache line instead of five scattered ones); the public
-// DisplayImage layers are built only for whoever asks: the consumer in acquire_latest(), and
+// brought up to date from short per-tick lists of changed slot runs, so a tick costs in
+// proportion to the pixels that changed, not to the image size. The display thread keeps one
+// 32-byte struct per pixel in the engine's slot order (the order render threads visit pixels),
+// so the reads, blends and copies of a tick all stream through memory; the public DisplayImage
+// layers (pixel order) are built only for whoever asks: the consumer in acquire_latest(), and
 // the on-tick callback when one is set.
 #include "display/display_thread.h"
 
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <cmath>
 #include <chrono>
 #include <condition_variable>
@@ -28,11 +30,8 @@ double thread_cpu_seconds() {
 
 constexpr uint32_t kNew = 4;
 constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
-constexpr uint64_t kHistory = 4;       // ticks of dirty lists kept for the triple buffer
+constexpr uint64_t kHistory = 8;       // ticks of change lists kept (buffers and consumers catch up from them)
 constexpr size_t kIntervalsKept = 1024;
-// Pixels ahead whose display pixel is prefetched: updates arrive in scattered chunks of a large
-// image, so without it each blend and each copy waits for a cache miss.
-constexpr size_t kPrefetch = 16;
 
 // One displayed pixel and its layers, kept together (see DisplayImage for their meaning).
 struct DisplayPixel {
@@ -41,28 +40,70 @@ struct DisplayPixel {
   uint32_t count = 0;
   float variance = 0.0f;
   uint32_t epoch = 0;
-  uint32_t unused = 0;  // pads to 32 bytes: two pixels per cache line
+  uint32_t seq = 0;  // engine sequence number of the update shown: the same one is not blended twice
 };
-static_assert(sizeof(DisplayPixel) == 32);
+static_assert(sizeof(DisplayPixel) == 32, "two pixels per cache line");
 
-// The display thread's image: the DisplayImage layers interleaved per pixel.
+// The engine's slot order and its inverse (built once per layout by the display thread).
+struct SlotLayout {
+  std::shared_ptr<const std::vector<uint32_t>> pixel_of;  // slot -> pixel (shared with the engine)
+  std::vector<uint32_t> slot_of;                          // pixel -> slot
+};
+using LayoutPtr = std::shared_ptr<const SlotLayout>;  // null: slot s is pixel s
+
+LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order) {
+  if (!order) return nullptr;
+  auto l = std::make_shared<SlotLayout>();
+  l->slot_of.resize(order->size());
+  for (size_t s = 0; s < order->size(); ++s) l->slot_of[(*order)[s]] = uint32_t(s);
+  l->pixel_of = std::move(order);
+  return l;
+}
+
+// A run of consecutive slots changed in one tick.
+struct SlotRun {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
+// What the last kHistory ticks changed: tick t's slot runs in runs[t % kHistory], or full[...]
+// when it changed (or cleared, or re-laid out) the whole image. Ticks before `newest` are recorded.
+struct ChangeHistory {
+  std::vector<SlotRun> runs[kHistory];
+  bool full[kHistory] = {};
+  uint64_t newest = 0;
+
+  // Whether an image holding ticks before `have` can be brought to ticks before `now` from runs.
+  bool covers(uint64_t have, uint64_t now) const {
+    if (have == 0 || have > now || now > newest || have + kHistory < newest) return false;
+    for (uint64_t t = have; t < now; ++t)
+      if (full[t % kHistory]) return false;
+    return true;
+  }
+};
+
+// The display thread's image: the DisplayImage layers interleaved per pixel, stored by slot.
 struct PixelImage {
   int width = 0;
   int height = 0;
+  LayoutPtr layout;
   std::vector<DisplayPixel> px;
   FrameInfo info;
+  ChangeHistory history;  // the display's change history when this image was published
 
   size_t pixels() const { return size_t(width) * size_t(height); }
-  void reset(int w, int h) {
+  uint32_t pixel_of(size_t slot) const { return layout ? (*layout->pixel_of)[slot] : uint32_t(slot); }
+  uint32_t slot_of(size_t pixel) const { return layout ? layout->slot_of[pixel] : uint32_t(pixel); }
+  void reset(int w, int h, LayoutPtr l) {
     width = w;
     height = h;
+    layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
   }
 };
 
-// Writes the layers of pixel i of `src` into `dst` (same size).
-inline void export_pixel(const PixelImage& src, DisplayImage& dst, size_t i) {
-  const DisplayPixel& p = src.px[i];
+// Writes the layers of `p` into pixel i of `dst`.
+inline void export_pixel(const DisplayPixel& p, DisplayImage& dst, size_t i) {
   dst.rgb[3 * i] = p.rgb[0];
   dst.rgb[3 * i + 1] = p.rgb[1];
   dst.rgb[3 * i + 2] = p.rgb[2];
@@ -72,13 +113,30 @@ inline void export_pixel(const PixelImage& src, DisplayImage& dst, size_t i) {
   dst.epoch[i] = p.epoch;
 }
 
-// Converts the whole image into the public layer layout.
+// Converts the whole image into the public layer layout. It walks the pixels in order and
+// gathers each from its slot: the writes stream, and the reads of a band of rows stay within
+// the few hundred kilobytes of the Hilbert chunks that cover it.
 void export_image(const PixelImage& src, DisplayImage& dst) {
   if (dst.width != src.width || dst.height != src.height || dst.epoch.size() != src.pixels())
     dst.reset(src.width, src.height);
   const size_t n = src.pixels();
-  for (size_t i = 0; i < n; ++i) export_pixel(src, dst, i);
+  if (src.layout) {
+    const uint32_t* slot = src.layout->slot_of.data();
+    for (size_t i = 0; i < n; ++i) export_pixel(src.px[slot[i]], dst, i);
+  } else {
+    for (size_t i = 0; i < n; ++i) export_pixel(src.px[i], dst, i);
+  }
   dst.info = src.info;
+}
+
+// dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).
+void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
+  dst.width = src.width;
+  dst.height = src.height;
+  dst.layout = std::move(layout);
+  const size_t n = src.pixels();
+  dst.px.resize(n);
+  for (size_t s = 0; s < n; ++s) dst.px[s] = src.px[src.slot_of(dst.pixel_of(s))];
 }
 
 }  // namespace
@@ -93,15 +151,15 @@ struct DisplayThread::Impl {
 
   // Display-thread state.
   UpdateCursor cursor;
-  std::vector<PixelUpdate> updates;
   DisplayImage tick_image;         // public layers of the newest image for the on-tick callback
   uint64_t tick_image_synced = 0;  // ticks whose changes tick_image holds (0: none)
   uint64_t tick_index = 0;
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
+  uint64_t pixels_updated = 0;  // since construction
+  LayoutPtr layout;             // the engine's current slot order, with its inverse
   std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
-  std::vector<uint32_t> dirty[kHistory];
-  bool dirty_full[kHistory] = {};
+  ChangeHistory history;  // what the last ticks changed
 
   // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
   // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
@@ -113,7 +171,8 @@ struct DisplayThread::Impl {
   std::atomic<uint32_t> middle{1};
   uint32_t back = 0;
   uint32_t front = 2;
-  DisplayImage latest;  // consumer: public layers of buf[front]
+  DisplayImage latest;        // consumer: public layers of buf[front]
+  uint64_t latest_synced = 0;  // consumer: ticks whose changes `latest` holds (0: none)
 
   // Wall-clock thread.
   std::thread thread;
@@ -146,11 +205,84 @@ struct DisplayThread::Impl {
   }
 
   FrameInfo run_tick(double interval);
-  bool catch_up(int width, int height, bool reset);
+  bool catch_up(const CollectResult& r);
   void publish();
   void update_tick_image(const PixelImage& img, bool full);
   void thread_main();
 };
+
+namespace {
+
+// Blends one tick's collected updates into the back buffer, slot run by slot run (display thread).
+struct TickSink final : UpdateSink {
+  TickSink(DisplayThread::Impl& display, const BlendConfig& config) : d(display), rule(config) {}
+
+  DisplayThread::Impl& d;
+  const BlendRule rule;
+  PixelImage* image = nullptr;
+  std::vector<SlotRun>* dirty = nullptr;
+  bool full = false;          // this tick changed (or cleared) the whole image
+  bool conventional = false;
+  size_t dirty_slots = 0;     // slots in *dirty
+  uint64_t changed = 0;       // pixels blended
+  uint64_t rejected = 0;      // blends that came out non-finite (kept the previous value)
+
+  void begin(const CollectResult& r) override;
+  void slots(size_t first, const PixelState* states, size_t count) override;
+  void frame(const std::vector<PixelSnapshot>& pixels) override;
+  void show(DisplayPixel& m, const PixelSnapshot& u);
+};
+
+}  // namespace
+
+void TickSink::begin(const CollectResult& r) {
+  conventional = r.mode == RenderMode::conventional;
+  full = d.catch_up(r);
+  image = &d.buf[d.back];
+  dirty = &d.history.runs[d.tick_index % kHistory];
+  dirty->clear();
+}
+
+inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u) {
+  bool bad = false;
+  const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), m.epoch,
+                             m.last_update, u, &bad);
+  rejected += bad;
+  d.count_epoch(m.epoch, u.epoch);
+  m.rgb[0] = c.x;
+  m.rgb[1] = c.y;
+  m.rgb[2] = c.z;
+  m.last_update = u.time;
+  m.count = u.count;
+  m.variance = std::isfinite(u.variance) ? u.variance : 0.0f;
+  m.epoch = u.epoch;
+  ++changed;
+}
+
+void TickSink::slots(size_t first, const PixelState* states, size_t count) {
+  DisplayPixel* px = image->px.data() + first;
+  PixelSnapshot u;
+  for (size_t i = 0; i < count; ++i) {
+    // A slot whose owner kept writing it is picked up on the owner's next visit.
+    if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == px[i].seq) continue;
+    show(px[i], u);
+    px[i].seq = u.seq;
+  }
+  if (full) return;
+  dirty->push_back({uint32_t(first), uint32_t(count)});
+  dirty_slots += count;
+  if (dirty_slots > image->pixels() / 4) full = true;  // cheaper to copy everything
+}
+
+void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
+  const size_t n = std::min(pixels.size(), image->px.size());
+  for (size_t i = 0; i < n; ++i) {
+    if (pixels[i].epoch == 0) continue;
+    show(image->px[i], pixels[i]);
+    image->px[i].seq = 0;  // frames carry no sequence number; frameless updates compare against 0
+  }
+  full = true;
+}
 
 FrameInfo DisplayThread::Impl::run_tick(double interval) {
   DisplayConfig cfg;
@@ -159,36 +291,14 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
     cfg = config;
   }
   engine.note_display_tick(uint32_t(tick_index));
-  const CollectResult r = engine.collect_updates(cursor, updates);
-  bool full = catch_up(r.width, r.height, r.reset);
+  TickSink sink(*this, cfg.blend);
+  const CollectResult r = engine.collect(cursor, sink);
+  const bool full = sink.full;
+  history.full[tick_index % kHistory] = full;
+  history.newest = tick_index + 1;
+  rejected += sink.rejected;
+
   PixelImage& image = buf[back];
-  std::vector<uint32_t>& dirty_now = dirty[tick_index % kHistory];
-  dirty_now.clear();
-
-  const bool conventional = r.mode == RenderMode::conventional;
-  for (size_t k = 0; k < updates.size(); ++k) {
-    const PixelUpdate& u = updates[k];
-    if (k + kPrefetch < updates.size())
-      __builtin_prefetch(&image.px[updates[k + kPrefetch].pixel], 1);
-    DisplayPixel& m = image.px[u.pixel];
-    const Vec3 prev(m.rgb[0], m.rgb[1], m.rgb[2]);
-    bool bad = false;
-    const Vec3 c =
-        blend_pixel(cfg.blend, conventional, prev, m.epoch, m.last_update, u.state, &bad);
-    rejected += bad;
-    count_epoch(m.epoch, u.state.epoch);
-    m.rgb[0] = c.x;
-    m.rgb[1] = c.y;
-    m.rgb[2] = c.z;
-    m.last_update = u.state.time;
-    m.count = u.state.count;
-    m.variance = std::isfinite(u.state.variance) ? u.state.variance : 0.0f;
-    m.epoch = u.state.epoch;
-    if (!full) dirty_now.push_back(u.pixel);
-  }
-  if (dirty_now.size() > image.pixels() / 4) full = true;  // cheaper to copy everything
-  dirty_full[tick_index % kHistory] = full;
-
   FrameInfo& info = image.info;
   info.index = tick_index;
   info.wall_time = wall();
@@ -196,7 +306,8 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   info.interval = interval;
   info.samples = r.samples >= last_samples ? r.samples - last_samples : r.samples;
   last_samples = r.samples;
-  info.pixels_updated = updates.size();
+  info.pixels_updated = sink.changed;
+  pixels_updated += sink.changed;
   const uint32_t e = r.newest_epoch;
   const uint32_t covered = epoch_tag.empty() || epoch_tag[e % kEpochRing] != e ? 0 : epoch_count[e % kEpochRing];
   info.coverage = image.pixels() ? double(covered) / double(image.pixels()) : 0.0;
@@ -215,41 +326,40 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 }
 
 // Brings buf[back] up to the newest published image (the changes of ticks synced[back] ..
-// tick_index - 1), so this tick blends into it in place: one copy per changed pixel and buffer.
-// Clears it instead on a reset or a size change. Returns whether it was cleared.
-bool DisplayThread::Impl::catch_up(int width, int height, bool reset) {
+// tick_index - 1), so this tick blends into it in place: one copy per changed run and buffer.
+// Clears it instead on a reset or a size change, and moves every pixel to its new slot on a
+// layout change. Returns whether this tick therefore changed the whole image.
+bool DisplayThread::Impl::catch_up(const CollectResult& r) {
+  if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) layout = make_layout(r.slot_pixel);
   PixelImage& img = buf[back];
-  if (reset || newest > 2 || buf[newest].width != width || buf[newest].height != height) {
-    img.reset(width, height);
+  if (r.reset || newest > 2 || buf[newest].width != r.width || buf[newest].height != r.height) {
+    img.reset(r.width, r.height, layout);
     epoch_tag.assign(kEpochRing, 0);
     epoch_count.assign(kEpochRing, 0);
     return true;
   }
   const PixelImage& src = buf[newest];
+  if (src.layout != layout) {
+    remap(src, img, layout);
+    return true;
+  }
   const uint64_t have = synced[back];
-  bool full = img.width != width || img.height != height || have == 0 ||
-              have + kHistory <= tick_index;
-  for (uint64_t t = have; !full && t < tick_index; ++t) full = dirty_full[t % kHistory];
-  if (full) {
-    img.width = width;
-    img.height = height;
+  if (img.width != r.width || img.height != r.height || img.layout != src.layout ||
+      !history.covers(have, tick_index)) {
+    img.width = src.width;
+    img.height = src.height;
+    img.layout = src.layout;
     img.px = src.px;
     return false;
   }
-  for (uint64_t t = have; t < tick_index; ++t) {
-    const std::vector<uint32_t>& list = dirty[t % kHistory];
-    for (size_t k = 0; k < list.size(); ++k) {
-      if (k + kPrefetch < list.size()) {
-        __builtin_prefetch(&img.px[list[k + kPrefetch]], 1);
-        __builtin_prefetch(&src.px[list[k + kPrefetch]], 0);
-      }
-      img.px[list[k]] = src.px[list[k]];
-    }
-  }
+  for (uint64_t t = have; t < tick_index; ++t)
+    for (const SlotRun& run : history.runs[t % kHistory])
+      std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
   return false;
 }
 
 void DisplayThread::Impl::publish() {
+  buf[back].history = history;  // a few runs per tick: no allocation once the vectors have grown
   synced[back] = tick_index + 1;
   newest = back;
   const uint32_t old = middle.exchange(back | kNew, std::memory_order_acq_rel);
@@ -263,7 +373,9 @@ void DisplayThread::Impl::update_tick_image(const PixelImage& img, bool full) {
       tick_image.height != img.height) {
     export_image(img, tick_image);
   } else {
-    for (uint32_t i : dirty[tick_index % kHistory]) export_pixel(img, tick_image, i);
+    for (const SlotRun& run : history.runs[tick_index % kHistory])
+      for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
+        export_pixel(img.px[s], tick_image, img.pixel_of(s));
     tick_image.info = img.info;
   }
   tick_image_synced = tick_index + 1;
@@ -299,6 +411,7 @@ void DisplayThread::Impl::thread_main() {
       std::lock_guard<std::mutex> lock(stats_mutex);
       stats.ticks = tick_index;
       stats.cpu_seconds = cpu;
+      stats.pixels_updated = pixels_updated;
       if (!first) {
         intervals.push_back(interval);
         interval_sum += interval;
@@ -369,8 +482,21 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   if (fresh) {
     const uint32_t old = d.middle.exchange(d.front, std::memory_order_acq_rel);
     d.front = old & 3u;
-    // The public layers are built here, on the consumer's thread, and only for images it takes.
-    export_image(d.buf[d.front], d.latest);
+    // The public layers are built here, on the consumer's thread, and only for images it takes:
+    // from the image's change history when it covers the ticks since the last one taken.
+    const PixelImage& img = d.buf[d.front];
+    const uint64_t now = img.info.index + 1;
+    if (d.latest.width == img.width && d.latest.height == img.height &&
+        img.history.covers(d.latest_synced, now)) {
+      for (uint64_t t = d.latest_synced; t < now; ++t)
+        for (const SlotRun& run : img.history.runs[t % kHistory])
+          for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
+            export_pixel(img.px[s], d.latest, img.pixel_of(s));
+      d.latest.info = img.info;
+    } else {
+      export_image(img, d.latest);
+    }
+    d.latest_synced = now;
   }
   if (is_new) *is_new = fresh;
   return d.latest;
@@ -389,6 +515,7 @@ DisplayStats DisplayThread::stats() const {
   if (!d.running) {
     s.ticks = d.tick_index;
     s.rejected = d.rejected;
+    s.pixels_updated = d.pixels_updated;
   }
   return s;
 }

@@ -28,6 +28,7 @@ struct DisplayStats {
   double max_interval = 0;        // longest measured interval
   std::vector<double> intervals;  // the last (up to) 1024 measured intervals, oldest first
   double cpu_seconds = 0;         // display-thread CPU time (CLOCK_THREAD_CPUTIME_ID) in ticks
+  uint64_t pixels_updated = 0;    // pixel updates blended since start (sum of FrameInfo::pixels_updated)
   double wall_seconds = 0;        // wall time since start
   uint64_t rejected = 0;          // non-finite values stopped before the image
 };

@@ -20,8 +20,6 @@ void Engine::Impl::record_error(const std::string& message) {
 
 namespace {
 
-constexpr size_t kPrefetch = 16;  // collect_updates: pixels ahead whose last_seq is prefetched
-
 int resolve_threads(int requested) {
   if (requested > 0) return requested;
   const unsigned hw = std::thread::hardware_concurrency();
@@ -70,6 +68,13 @@ void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
   e.pixel_count = n;
   if (keep)
     for (size_t p = 0; p < n; ++p) copy_state(old_states[old_slot_of[p]], e.states[e.slot_of[p]]);
+  else
+    ++e.cleared;
+  // Reuse the display's copy when the order did not change (a restart or an update-% change).
+  if (e.cfg.mode != RenderMode::frameless)
+    e.display_order.reset();
+  else if (!e.display_order || *e.display_order != e.slot_pixel)
+    e.display_order = std::make_shared<const std::vector<uint32_t>>(e.slot_pixel);
   for (auto& b : e.frames.buf) b.assign(n, PixelSnapshot{});
   e.sample_seed_base = mix64(e.scene.settings.seed ^ mix64(e.cfg.seed));
   e.generation.fetch_add(1, std::memory_order_release);
@@ -275,14 +280,14 @@ void Engine::advance(double tick_seconds) {
 uint64_t Engine::ticks() const { return impl_->ticks.load(std::memory_order_relaxed); }
 double Engine::now() const { return impl_->now(); }
 
-CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpdate>& out) {
+CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   Impl& e = *impl_;
-  out.clear();
   std::lock_guard<std::mutex> lock(e.layout_mutex);
   CollectResult r;
   r.mode = e.cfg.mode;
   r.width = e.cfg.width;
   r.height = e.cfg.height;
+  r.slot_pixel = e.display_order;
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
   // A thread-count change while stopped takes effect at start(): never index past the counters.
@@ -292,53 +297,38 @@ CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpd
     r.dropped += e.counters[t].dropped.load(std::memory_order_relaxed);
   }
   const uint64_t generation = e.generation.load(std::memory_order_acquire);
-  const bool resync = cursor.generation != generation;
-  if (resync) {
-    r.reset = cursor.width != r.width || cursor.height != r.height;
-    if (r.reset || cursor.last_seq.size() != e.pixel_count) cursor.last_seq.assign(e.pixel_count, 0);
+  r.resync = cursor.generation != generation;
+  if (r.resync) {
+    r.reset = cursor.cleared != e.cleared || cursor.width != r.width || cursor.height != r.height;
     cursor.generation = generation;
+    cursor.cleared = e.cleared;
     cursor.width = r.width;
     cursor.height = r.height;
-    cursor.frame = 0;
     cursor.thread_updates.assign(size_t(threads), 0);
   }
-
-  PixelSnapshot s;
-  auto take = [&](uint32_t idx, size_t slot) {
-    if (!frameless::read_pixel(e.states[slot], s)) {
-      ++r.contended;
-      return;
-    }
-    if (s.epoch == 0 || s.seq == cursor.last_seq[idx]) return;
-    cursor.last_seq[idx] = s.seq;
-    out.push_back({idx, s});
-  };
+  sink.begin(r);
 
   if (e.cfg.mode == RenderMode::frameless) {
-    if (resync) {
-      // Counters first: anything published during the scan is collected (again) next time.
+    if (r.resync) {
+      // Counters first: anything published during the scan is offered (again) next time.
       for (int t = 0; t < threads; ++t)
         cursor.thread_updates[size_t(t)] = e.counters[t].updates.load(std::memory_order_acquire);
-      for (size_t i = 0; i < e.pixel_count; ++i) take(e.slot_pixel[i], i);
+      if (e.pixel_count) sink.slots(0, &e.states[0], e.pixel_count);
       return r;
     }
     for (int t = 0; t < threads; ++t) {
-      const std::vector<uint32_t>& list = e.partition.pixels[size_t(t)];
+      const uint64_t n = e.partition.pixels[size_t(t)].size();
       const size_t first = e.thread_first_slot[size_t(t)];
-      const uint64_t n = list.size();
       const uint64_t now = e.counters[t].updates.load(std::memory_order_acquire);
       uint64_t& seen = cursor.thread_updates[size_t(t)];
       if (n == 0 || now == seen) continue;
-      // Visit u touched list[u mod n]: the counter alone tells which pixels changed.
+      // Visit u touched list position u mod n, which is slot first + (u mod n): the counter
+      // alone says which slots changed, as at most two runs (the second when the range wraps).
       const uint64_t from = now - seen >= n ? now - n : seen;
-      // Consecutive visits are consecutive slots: the reads stream through memory.
-      size_t pos = size_t(from % n);
-      for (uint64_t u = from; u < now; ++u) {
-        // last_seq is per pixel, and the list jumps between chunks: fetch it ahead.
-        __builtin_prefetch(&cursor.last_seq[list[pos + kPrefetch < n ? pos + kPrefetch : pos]], 1);
-        take(list[pos], first + pos);
-        if (++pos == n) pos = 0;
-      }
+      const size_t pos = size_t(from % n), len = size_t(now - from);
+      const size_t head = std::min(len, size_t(n) - pos);
+      sink.slots(first + pos, &e.states[first + pos], head);
+      if (head < len) sink.slots(first, &e.states[first], len - head);
       seen = now;
     }
     return r;
@@ -349,10 +339,7 @@ CollectResult Engine::collect_updates(UpdateCursor& cursor, std::vector<PixelUpd
   if (f.middle.load(std::memory_order_acquire) & FrameBuffers::kNew) {
     const uint32_t old = f.middle.exchange(f.front, std::memory_order_acq_rel);
     f.front = old & 3u;
-    const std::vector<PixelSnapshot>& frame = f.buf[f.front];
-    for (uint32_t i = 0; i < frame.size(); ++i)
-      if (frame[i].epoch != 0) out.push_back({i, frame[i]});
-    cursor.frame = f.completed.load(std::memory_order_acquire);
+    sink.frame(f.buf[f.front]);
     r.new_frame = true;
   }
   return r;

@@ -1,5 +1,5 @@
 // The frameless engine: owns the render threads, their pixels and the camera channel. Control
-// methods run on one control thread; collect_updates() on the display thread; render threads
+// methods run on one control thread; collect() on the display thread; render threads
 // are internal. The destructor stops and joins every thread (RAII).
 #pragma once
 #include <cstdint>
@@ -38,34 +38,44 @@ struct EngineStats {
   uint32_t camera_epoch = 0;         // newest published epoch
 };
 
-// One updated pixel as handed to the display thread.
-struct PixelUpdate {
-  uint32_t pixel = 0;  // y * width + x
-  PixelSnapshot state; // consistent copy of its published state
-};
-
 // Display-thread cursor: what it has already seen. Default-constructed = nothing seen.
 struct UpdateCursor {
-  uint64_t generation = ~uint64_t(0);  // engine layout generation it refers to
-  std::vector<uint64_t> thread_updates;  // per render thread: updates already collected
-  std::vector<uint32_t> last_seq;        // per pixel: sequence number last collected
-  uint64_t frame = 0;                    // conventional: completed frames already collected
-  int width = 0;                         // image size it last saw (a change sets CollectResult::reset)
+  uint64_t generation = ~uint64_t(0);    // engine layout generation it refers to
+  uint64_t cleared = ~uint64_t(0);       // engine pixel-clear count it refers to
+  std::vector<uint64_t> thread_updates;  // per render thread: visits already collected
+  int width = 0;                         // image size it last saw
   int height = 0;
 };
 
-// What one collect_updates() call found.
+// What one collect() call found.
 struct CollectResult {
   RenderMode mode = RenderMode::frameless;  // mode the updates come from
-  bool reset = false;        // layout changed (resize, restart): the display must clear its image
+  bool reset = false;        // pixel states were cleared (resize, restart): clear the image
+  bool resync = false;       // new layout generation: every slot is offered again
   int width = 0;             // current image size
   int height = 0;
+  // Frameless: the pixel (y * width + x) each slot holds, in slot order; null in conventional
+  // mode, where frames come in pixel order. Shared and immutable: compare pointers to spot a change.
+  std::shared_ptr<const std::vector<uint32_t>> slot_pixel;
   uint32_t newest_epoch = 0; // newest published camera epoch
   uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
   uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()
   double time = 0;           // engine seconds at collection (virtual in deterministic mode)
   bool new_frame = false;    // conventional: a newly completed frame was collected
-  uint64_t contended = 0;    // pixels skipped because the owner kept writing them (picked up later)
+};
+
+// Receives what Engine::collect() finds, on the display thread, while the layout is locked
+// (so the state pointers stay valid). begin() comes first, then slots() or frame().
+class UpdateSink {
+ public:
+  virtual ~UpdateSink() = default;
+  // Size, mode, slot order and reset flags of this collection (new_frame not yet known).
+  virtual void begin(const CollectResult& result) = 0;
+  // Frameless: slots [first, first + count) may have changed since the cursor; states[i] is slot
+  // first + i. Read each with read_pixel(); an unchanged seq (or epoch 0) means nothing new.
+  virtual void slots(size_t first, const PixelState* states, size_t count) = 0;
+  // Conventional: a newly completed frame, in pixel order (epoch 0: never rendered).
+  virtual void frame(const std::vector<PixelSnapshot>& pixels) = 0;
 };
 
 class Engine {
@@ -107,10 +117,10 @@ class Engine {
   // Engine seconds since construction: wall clock, or the virtual clock in deterministic mode.
   double now() const;
 
-  // Display thread: appends every pixel updated since `cursor` (each at most once, as a
-  // consistent snapshot) to `out` (cleared first) and advances the cursor. In conventional mode
-  // it yields the whole newest completed frame, once.
-  CollectResult collect_updates(UpdateCursor& cursor, std::vector<PixelUpdate>& out);
+  // Display thread: hands `sink` every slot that may have changed since `cursor`, as runs of
+  // consecutive slots (so the reader streams through memory), and advances the cursor. In
+  // conventional mode it hands over the newest completed frame, once.
+  CollectResult collect(UpdateCursor& cursor, UpdateSink& sink);
   // Display thread: the display interval index stamped into update-log records.
   void note_display_tick(uint32_t index);
 

@@ -79,6 +79,9 @@ struct Engine::Impl {
   std::vector<uint32_t> slot_of;
   std::vector<uint32_t> slot_pixel;
   std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
+  // The display's copy of slot_pixel (frameless; null in conventional mode), immutable once built.
+  std::shared_ptr<const std::vector<uint32_t>> display_order;
+  uint64_t cleared = 0;  // layouts built with cleared pixel states (guarded by layout_mutex)
   size_t pixel_count = 0;
   int threads = 1;
   std::unique_ptr<ThreadCounters[]> counters;

@@ -1,5 +1,6 @@
 // Display thread: deterministic reproduction, no NaN/Inf displayed, coverage, conventional frames
-// shown only when complete, triple-buffer hand-off, and a short wall-clock run at 240 Hz.
+// shown only when complete, the triple-buffer hand-off and layout changes (the wall-clock run
+// with real threads is tests/exchange).
 #include "display/display_thread.h"
 
 #include <gtest/gtest.h>
@@ -125,63 +126,53 @@ TEST(DisplayThread, StillImageShowsTheRunningMean) {
   EXPECT_LT(img.age(i), 1.0f);
 }
 
+// The consumer's image is patched from each image's change history when it covers the ticks
+// since the last image taken, and rebuilt otherwise; the on-tick image is patched from each
+// tick's change list. Both must equal each other bit for bit whatever the consumer skips, across
+// camera changes, a new partition (every pixel changes slot) and mode switches.
 TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
-  Engine e(kEmptyScene, deterministic_config(RenderMode::frameless, 1), camera_at(0));
+  EngineConfig c = deterministic_config(RenderMode::frameless, 1);
+  c.samples_per_tick = 120;  // a tick changes a few runs, not the whole image: patching applies
+  Engine e(kEmptyScene, c, camera_at(0));
   DisplayThread d(e, {});
   DisplayImage seen;
   d.set_on_tick([&](const DisplayImage& img) { seen = img; });
-  for (int k = 0; k < 12; ++k) {
+  int taken = 0;
+  for (int k = 0, skip = 0; k < 60; ++k) {
+    if (k == 10) e.publish_camera(camera_at(0.5f));
+    if (k == 25) e.set_threads(2);
+    if (k == 40) e.set_mode(RenderMode::conventional);
+    if (k == 50) e.set_mode(RenderMode::frameless);
     d.step();
-    if (k % 3 == 0) continue;  // the consumer skips some ticks
+    if (skip-- > 0) continue;  // the consumer skips 0..11 ticks (more than the history holds)
+    skip = (k * 7) % 12;
     bool fresh = false;
     const DisplayImage& img = d.acquire_latest(&fresh);
     EXPECT_TRUE(fresh);
     EXPECT_TRUE(same_bits(img, seen)) << "tick " << k;
     EXPECT_EQ(img.info.index, uint64_t(k));
+    ++taken;
   }
+  EXPECT_GT(taken, 10);
+  EXPECT_TRUE(same_bits(d.acquire_latest(), seen));  // the last tick, after a skip
   bool fresh = true;
   d.acquire_latest(&fresh);
   EXPECT_FALSE(fresh);
 }
 
-TEST(DisplayThread, WallClockAt240HzWithCameraStorm) {
-  EngineConfig c = test_config(64, 48, 4, eye_shader);
-  Engine e(kEmptyScene, c, camera_at(1.0f));
-  DisplayConfig dc;
-  dc.refresh_hz = 240;
-  DisplayThread d(e, dc);
-  std::atomic<bool> done{false};
-  std::atomic<uint64_t> frames{0}, bad{0};
-  std::thread consumer([&] {
-    while (!done.load()) {
-      bool fresh = false;
-      const DisplayImage& img = d.acquire_latest(&fresh);
-      if (fresh) {
-        ++frames;
-        for (float v : img.rgb) bad += !std::isfinite(v);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-  });
-  e.start();
-  d.start();
-  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1000);
-  for (float x = 2.0f; std::chrono::steady_clock::now() < end; x += 1.0f) {
-    e.publish_camera(camera_at(x));
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  d.stop();
-  done = true;
-  consumer.join();
-  e.stop();
-  const DisplayStats s = d.stats();
-  EXPECT_GT(s.ticks, 20u);  // generous: the machine may be loaded
-  EXPECT_GT(s.mean_interval, 0.0);
-  EXPECT_GT(s.cpu_seconds, 0.0);
-  EXPECT_GT(frames.load(), 0u);
-  EXPECT_EQ(bad.load(), 0u);
-  EXPECT_FALSE(d.error());
-  EXPECT_FALSE(e.error());
+// A new partition moves every pixel to a new slot; the display carries its image over, so
+// the pixels it already showed are neither lost nor blended twice.
+TEST(DisplayThread, LayoutChangeKeepsTheDisplayedImage) {
+  Engine e(kEmptyScene, deterministic_config(RenderMode::frameless, 2), camera_at(0));
+  DisplayThread d(e, {});
+  for (int k = 0; k < 6; ++k) d.step();
+  const DisplayImage before = d.acquire_latest();
+  e.set_threads(5);
+  const FrameInfo info = d.tick();  // no new samples: the engine did not advance
+  EXPECT_EQ(info.pixels_updated, 0u);
+  EXPECT_TRUE(same_bits(d.acquire_latest(), before));
+  d.step();
+  EXPECT_GT(d.acquire_latest().info.pixels_updated, 0u);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Reconfiguring a stopped engine: the display side keeps working before the next start().
 #include <gtest/gtest.h>
 
+#include "collecting_sink.h"
 #include "frameless/engine.h"
 #include "test_shaders.h"
 
@@ -18,10 +19,10 @@ TEST(EngineReconfigure, MoreThreadsWhileStoppedThenCollectAndRestart) {
   e.set_threads(5);  // stopped: the counters still describe 2 threads
   EXPECT_EQ(e.thread_count(), 5);
   UpdateCursor cursor;
-  std::vector<PixelUpdate> updates;
-  const CollectResult r = e.collect_updates(cursor, updates);
+  CollectingSink sink;
+  const CollectResult r = e.collect(cursor, sink);
   EXPECT_EQ(r.width, 40);
-  EXPECT_FALSE(updates.empty());  // what was rendered before the change is still collected
+  EXPECT_FALSE(sink.updates.empty());  // what was rendered before the change is still collected
   EXPECT_LE(e.stats().threads.size(), 5u);
   e.start();  // the new thread count takes effect and every thread renders
   e.advance(0.01);
@@ -29,8 +30,8 @@ TEST(EngineReconfigure, MoreThreadsWhileStoppedThenCollectAndRestart) {
   const EngineStats s = e.stats();
   ASSERT_EQ(s.threads.size(), 5u);
   for (const ThreadStats& t : s.threads) EXPECT_GT(t.samples, 0u);
-  e.collect_updates(cursor, updates);
-  EXPECT_FALSE(updates.empty());
+  e.collect(cursor, sink);
+  EXPECT_FALSE(sink.updates.empty());
 }
 
 }  // namespace

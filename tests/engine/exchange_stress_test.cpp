@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "collecting_sink.h"
 #include "frameless/engine.h"
 #include "test_shaders.h"
 
@@ -30,14 +31,14 @@ TEST(ExchangeStress, NoTornPixelsUnderCameraStorm) {
     uint64_t collected = 0, bad = 0, backwards = 0;
     std::thread display([&] {
       UpdateCursor cursor;
-      std::vector<PixelUpdate> updates;
+      CollectingSink sink;
       std::vector<uint32_t> last_epoch(size_t(96) * 64, 0);
       auto next = Clock::now();
       while (!done.load()) {
         next += std::chrono::microseconds(4167);  // 240 Hz
         std::this_thread::sleep_until(next);
-        e.collect_updates(cursor, updates);
-        for (const PixelUpdate& u : updates) {
+        e.collect(cursor, sink);
+        for (const CollectedPixel& u : sink.updates) {
           const float v = float(u.state.epoch);
           const PixelSnapshot& s = u.state;
           if (s.sample != Vec3(v) || s.mean != Vec3(v) || s.variance != 0.0f) ++bad;
