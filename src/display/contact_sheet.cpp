@@ -95,10 +95,11 @@ Result<bool> write_mp4(const std::vector<std::string>& frames, double fps, const
   const int w = first->width, h = first->height;
   const std::string tmp = temporary_path_for(mp4_path) + ".mp4";
   char cmd[4096];
-  // Raw sRGB frames on stdin; H.264 needs even sizes, so pad by one pixel where needed.
+  // Raw sRGB frames on stdin; H.264 needs even sizes, so pad by one pixel where needed (the
+  // filter is quoted: its parentheses would be shell syntax).
   std::snprintf(cmd, sizeof cmd,
                 "'%s' -y -loglevel error -f rawvideo -pix_fmt rgb24 -s %dx%d -r %.6f -i - "
-                "-vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -c:v libx264 -pix_fmt yuv420p -f mp4 '%s'",
+                "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -f mp4 '%s'",
                 ffmpeg.c_str(), w, h, fps, tmp.c_str());
   std::FILE* pipe = popen(cmd, "w");
   if (!pipe) return Error{mp4_path + ": cannot start ffmpeg"};

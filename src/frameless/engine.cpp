@@ -175,7 +175,10 @@ void Engine::reconfigure(const EngineConfig& config) {
   const bool was_running = e.running;
   stop();
   const bool resized = config.width != e.cfg.width || config.height != e.cfg.height;
-  e.cfg = config;
+  {
+    std::lock_guard<std::mutex> lock(e.layout_mutex);  // the display reads cfg while collecting
+    e.cfg = config;
+  }
   rebuild_layout(e, resized);
   if (was_running) start();
 }
@@ -350,7 +353,8 @@ void Engine::note_display_tick(uint32_t index) {
 }
 
 EngineStats Engine::stats() const {
-  const Impl& e = *impl_;
+  Impl& e = *impl_;
+  std::lock_guard<std::mutex> lock(e.layout_mutex);  // any thread, even during a reconfiguration
   EngineStats s;
   s.seconds = e.now() - e.start_time.load(std::memory_order_relaxed);
   s.camera_epoch = e.channel.epoch();

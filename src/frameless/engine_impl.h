@@ -102,7 +102,7 @@ struct Engine::Impl {
   std::unique_ptr<std::barrier<FrameDone>> barrier;
 
   // Control.
-  std::mutex layout_mutex;  // held by control while rebuilding, by the display while collecting
+  std::mutex layout_mutex;  // held by control while rebuilding or changing cfg, by the display while collecting, by stats()
   std::atomic<uint64_t> generation{0};
   std::vector<std::thread> thread_handles;
   bool running = false;

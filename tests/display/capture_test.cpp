@@ -15,6 +15,7 @@
 #include <set>
 
 #include "core/scene_io.h"
+#include "display/contact_sheet.h"
 #include "display/display_thread.h"
 #include "display/gl_presenter.h"
 #include "display/manifest.h"
@@ -279,6 +280,26 @@ TEST(Capture, BadSettingsAreRejected) {
   o = small_options(temp_dir("bad"));
   o.duration = -1;
   EXPECT_FALSE(run_capture(scene(), o).ok());
+}
+
+// The optional MP4 (only when ffmpeg is installed): an odd-sized capture is padded to even
+// sizes and encoded; the file is an MP4 (an `ftyp` box first) and no temporary file is left.
+TEST(Capture, Mp4WhenFfmpegIsInstalled) {
+  if (!ffmpeg_available()) GTEST_SKIP() << "ffmpeg is not installed (apt-get install ffmpeg)";
+  const std::string dir = temp_dir("mp4");
+  CaptureOptions o = small_options(dir);
+  o.engine.width = 47;  // odd: H.264 needs the padding
+  o.engine.height = 31;
+  o.layers.clear();
+  o.mp4 = true;
+  auto r = run_capture(scene(), o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->note, "");
+  ASSERT_EQ(r->mp4_path, (fs::path(dir) / "sequence.mp4").string());
+  const std::string mp4 = slurp(r->mp4_path);
+  ASSERT_GT(mp4.size(), 8u);
+  EXPECT_EQ(mp4.substr(4, 4), "ftyp");
+  for (const std::string& n : files_in(dir)) EXPECT_EQ(n.find(".tmp"), std::string::npos) << n;
 }
 
 }  // namespace
