@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
-#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -16,6 +16,7 @@
 #include "frameless/engine.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
+#include "tools/latency_trial.h"
 
 namespace frameless::cli {
 namespace {
@@ -139,55 +140,6 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   return r;
 }
 
-struct Latency {
-  double p50 = 0, p95 = 0, p100 = 0, ideal = 0;
-};
-
-// Time from a camera change until 50/95/100% of the displayed pixels show it (display at 240 Hz).
-Latency latency(const Scene& scene, EngineConfig c, const Camera& camera) {
-  Engine e(scene, c, camera);
-  DisplayConfig dc;
-  dc.refresh_hz = 240;
-  DisplayThread d(e, dc);
-  std::mutex m;
-  std::vector<std::pair<double, double>> series;  // (engine seconds, coverage)
-  uint32_t watched = 0;
-  d.set_on_tick([&](const DisplayImage& img) {
-    std::lock_guard<std::mutex> lock(m);
-    if (img.info.newest_epoch == watched) series.push_back({img.info.virtual_time, img.info.coverage});
-  });
-  e.start();
-  d.start();
-  sleep_s(0.5);
-  Camera moved = camera;
-  moved.eye += 0.05f * (camera.look - camera.eye);
-  const EngineStats s0 = e.stats();
-  double t0;
-  {
-    std::lock_guard<std::mutex> lock(m);
-    t0 = e.now();
-    watched = e.publish_camera(moved);
-  }
-  Latency r{-1, -1, -1, 0};
-  for (int k = 0; k < 2000; ++k) {
-    sleep_s(0.005);
-    std::lock_guard<std::mutex> lock(m);
-    if (!series.empty() && series.back().second >= 1.0) break;
-  }
-  const EngineStats s1 = e.stats();
-  d.stop();
-  e.stop();
-  for (const auto& [t, cov] : series) {
-    if (r.p50 < 0 && cov >= 0.5) r.p50 = (t - t0) * 1e3;
-    if (r.p95 < 0 && cov >= 0.95) r.p95 = (t - t0) * 1e3;
-    if (r.p100 < 0 && cov >= 1.0) r.p100 = (t - t0) * 1e3;
-  }
-  const double updates_per_s = double(s1.updates - s0.updates) / std::max(1e-9, s1.seconds - s0.seconds);
-  r.ideal = double(c.width) * c.height / updates_per_s * 1e3;
-  return r;
-}
-
-
 int run_bench(const BenchArgs& a) {
   std::string error;
   int width = 0, height = 0;
@@ -233,10 +185,13 @@ int run_bench(const BenchArgs& a) {
     std::vector<double> p50, p95, p100, ideal;
     for (int k = 0; k < std::max(1, a.repeats); ++k) {
       note("camera-change latency");
-      const Latency l = latency(*scene, c, camera);
-      p50.push_back(l.p50);
-      p95.push_back(l.p95);
-      p100.push_back(l.p100);
+      // Display at 240 Hz so coverage is sampled finely; a trial that never reaches a level
+      // (render thread starved) reports -1.
+      const LatencyTrial l = measure_latency(*scene, c, camera, 240.0, 10.0);
+      auto ms = [](double v) { return std::isnan(v) ? -1.0 : v; };
+      p50.push_back(ms(l.p50));
+      p95.push_back(ms(l.p95));
+      p100.push_back(ms(l.p100));
       ideal.push_back(l.ideal);
     }
     nlohmann::json j;

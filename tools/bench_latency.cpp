@@ -6,13 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <mutex>
-#include <thread>
 
-#include "display/display_thread.h"
 #include "frameless/engine.h"
 #include "tools/bench_report.h"
 #include "tools/command_registry.h"
+#include "tools/latency_trial.h"
 #include "tools/common_options.h"
 
 namespace frameless::cli {
@@ -28,62 +26,6 @@ struct LatencyArgs {
   double refresh = 240;
   bool quick = false;
 };
-
-struct Trial {
-  double p50 = NAN, p95 = NAN, p100 = NAN, ideal = NAN;  // milliseconds
-  std::vector<std::pair<double, double>> curve;          // (ms since the change, coverage)
-};
-
-void sleep_s(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
-
-// One camera change after a warm-up; the display records coverage of the new epoch per tick.
-Trial measure(const Scene& scene, const EngineConfig& c, double refresh) {
-  Engine e(scene, c, scene.camera);
-  DisplayConfig dc;
-  dc.refresh_hz = refresh;
-  DisplayThread d(e, dc);
-  std::mutex m;
-  std::vector<std::pair<double, double>> series;
-  uint32_t watched = 0;
-  d.set_on_tick([&](const DisplayImage& img) {
-    std::lock_guard<std::mutex> lock(m);
-    if (watched && img.info.newest_epoch == watched)
-      series.push_back({img.info.virtual_time, img.info.coverage});
-  });
-  e.start();
-  d.start();
-  sleep_s(0.4);
-  Camera moved = scene.camera;
-  moved.eye += 0.05f * (scene.camera.look - scene.camera.eye);
-  const EngineStats s0 = e.stats();
-  double t0;
-  {
-    std::lock_guard<std::mutex> lock(m);
-    t0 = e.now();
-    watched = e.publish_camera(moved);
-  }
-  for (int k = 0; k < 3000; ++k) {  // at most 15 s
-    sleep_s(0.005);
-    std::lock_guard<std::mutex> lock(m);
-    if (!series.empty() && series.back().second >= 1.0) break;
-  }
-  const EngineStats s1 = e.stats();
-  d.stop();
-  e.stop();
-  if (e.error()) throw std::runtime_error(*e.error());
-  Trial t;
-  for (const auto& [time, cov] : series) {
-    const double ms = (time - t0) * 1e3;
-    t.curve.push_back({ms, cov});
-    if (std::isnan(t.p50) && cov >= 0.5) t.p50 = ms;
-    if (std::isnan(t.p95) && cov >= 0.95) t.p95 = ms;
-    if (std::isnan(t.p100) && cov >= 1.0) t.p100 = ms;
-  }
-  const double updates_per_s =
-      double(s1.updates - s0.updates) / std::max(1e-9, s1.seconds - s0.seconds);
-  t.ideal = double(c.width) * c.height / std::max(1.0, updates_per_s) * 1e3;
-  return t;
-}
 
 double median(std::vector<double> v) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
@@ -141,10 +83,10 @@ int run_latency(LatencyArgs a) {
       c.update_percent = p;
       c.track_variance = false;
       std::vector<double> p50, p95, p100, ideal;
-      Trial first;
+      LatencyTrial first;
       for (int r = 0; r < a.repeats; ++r) {
         bench_progress("latency", "update " + csv_number(p) + "%, repeat " + std::to_string(r + 1));
-        Trial t = measure(*scene, c, a.refresh);
+        LatencyTrial t = measure_latency(*scene, c, scene->camera, a.refresh);
         p50.push_back(t.p50), p95.push_back(t.p95), p100.push_back(t.p100),
             ideal.push_back(t.ideal);
         csv.rows.push_back({csv_number(p), std::to_string(r), csv_number(t.p50), csv_number(t.p95),

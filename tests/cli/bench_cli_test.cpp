@@ -1,0 +1,48 @@
+// `frameless bench engine --json` end to end on a tiny run: the keys the engine issue names are
+// there with sane values, and bad arguments get a one-line error. (No timing is asserted.)
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_test_util.h"
+
+namespace frameless::test {
+namespace {
+
+TEST(BenchCli, EngineJsonHasTheNamedKeys) {
+  const CommandResult r = run_frameless(
+      "bench engine default --json --size 64x48 --threads 2 --seconds 0.2 --repeats 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.output;
+  for (const char* k : {"frameless_samples_per_s", "conventional_samples_per_s",
+                        "display_cpu_fraction", "latency_ms", "latency_ideal_ms",
+                        "display_ns_per_update", "consumer_cpu_fraction"})
+    ASSERT_TRUE(j.contains(k)) << k;
+  EXPECT_GT(j["frameless_samples_per_s"].get<double>(), 0.0);
+  EXPECT_GT(j["conventional_samples_per_s"].get<double>(), 0.0);
+  const double cpu = j["display_cpu_fraction"].get<double>();
+  EXPECT_GT(cpu, 0.0);
+  EXPECT_LT(cpu, 1.0);
+  const auto& l = j["latency_ms"];
+  const double p50 = l["p50"].get<double>(), p95 = l["p95"].get<double>(),
+               p100 = l["p100"].get<double>();
+  EXPECT_GT(p50, 0.0);
+  EXPECT_LE(p50, p95);
+  EXPECT_LE(p95, p100);
+  EXPECT_GT(j["latency_ideal_ms"].get<double>(), 0.0);
+  EXPECT_EQ(j["width"], 64);
+  EXPECT_EQ(j["threads"], 2);
+}
+
+TEST(BenchCli, EngineBadArgumentsAreOneLine) {
+  for (const char* args : {"bench engine --size 0x48", "bench engine --seconds -1",
+                           "bench engine no_such_scene.json"}) {
+    const CommandResult r = run_frameless(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace frameless::test
