@@ -25,6 +25,9 @@ Result<bool> write_exr(const std::string& path, int width, int height,
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
+    // zlib level 1: a wall-clock capture on 2 cores kept 67-74 of 90 ticks instead of 53-58
+    // (zlib was a quarter of the capture's CPU), for files about a third larger.
+    header.zipCompressionLevel() = 1;
     for (const auto& [k, v] : attrs.strings) header.insert(k, Imf::StringAttribute(v));
     for (const auto& [k, v] : attrs.floats) header.insert(k, Imf::FloatAttribute(v));
     for (const auto& [k, v] : attrs.doubles) header.insert(k, Imf::DoubleAttribute(v));
