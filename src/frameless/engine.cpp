@@ -26,10 +26,16 @@ int resolve_threads(int requested) {
   return hw ? int(hw) : 1;
 }
 
-// Rebuilds everything that depends on size, thread count, order or mode. Threads are stopped.
-void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
+// Installs `config` and rebuilds everything that depends on size, thread count, order or mode,
+// in one critical section: the display never sees a new size with an old layout. Threads are
+// stopped. A change without a resize keeps every pixel's state (moved if its slot changed).
+void rebuild_layout(Engine::Impl& e, const EngineConfig& config) {
   std::lock_guard<std::mutex> lock(e.layout_mutex);
+  const bool resized = !e.states || config.width != e.cfg.width || config.height != e.cfg.height;
+  e.cfg = config;
   e.threads = resolve_threads(e.cfg.threads);
+  // Counters follow the thread count at once (zeroed), so readers never index past them.
+  e.counters.reset(new ThreadCounters[size_t(e.threads)]);
   e.partition = make_partition({e.cfg.width, e.cfg.height, e.threads, e.cfg.chunk_size,
                                 e.cfg.order, e.cfg.seed});
   const size_t n = size_t(e.cfg.width) * size_t(e.cfg.height);
@@ -46,35 +52,36 @@ void rebuild_layout(Engine::Impl& e, bool clear_pixels) {
     }
     e.job_first_pixel.push_back(e.job_first_pixel.back() + pixels);
   }
-  // Slots in visiting order (see Engine::Impl::states); a layout change without a resize keeps
-  // every pixel's state, moved to its new slot.
-  std::vector<uint32_t> old_slot_of = std::move(e.slot_of);
-  std::unique_ptr<PixelState[]> old_states = std::move(e.states);
-  const bool keep = !clear_pixels && old_states && n == e.pixel_count;
+  // Slots in visiting order (see Engine::Impl::states): frameless, thread by thread along each
+  // list; conventional, job order.
+  std::vector<uint32_t> slot_pixel;
   e.thread_first_slot.assign(1, 0);
   if (e.cfg.mode == RenderMode::frameless) {
-    e.slot_pixel.clear();
-    e.slot_pixel.reserve(n);
+    slot_pixel.reserve(n);
     for (const std::vector<uint32_t>& list : e.partition.pixels) {
-      e.slot_pixel.insert(e.slot_pixel.end(), list.begin(), list.end());
-      e.thread_first_slot.push_back(e.slot_pixel.size());
+      slot_pixel.insert(slot_pixel.end(), list.begin(), list.end());
+      e.thread_first_slot.push_back(slot_pixel.size());
     }
   } else {
-    e.slot_pixel = e.job_pixels;
+    slot_pixel = e.job_pixels;
   }
-  e.slot_of.assign(n, 0);
-  for (size_t s = 0; s < n; ++s) e.slot_of[e.slot_pixel[s]] = uint32_t(s);
-  e.states.reset(new PixelState[n]);
-  e.pixel_count = n;
-  if (keep)
-    for (size_t p = 0; p < n; ++p) copy_state(old_states[old_slot_of[p]], e.states[e.slot_of[p]]);
-  else
+  std::vector<uint32_t> slot_of(n, 0);
+  for (size_t s = 0; s < n; ++s) slot_of[slot_pixel[s]] = uint32_t(s);
+  if (resized) {
+    e.states.reset(new PixelState[n]);
     ++e.cleared;
-  // Reuse the display's copy when the order did not change (a restart or an update-% change).
+  } else if (slot_of != e.slot_of) {
+    std::unique_ptr<PixelState[]> states(new PixelState[n]);
+    for (size_t p = 0; p < n; ++p) copy_state(e.states[e.slot_of[p]], states[slot_of[p]]);
+    e.states = std::move(states);
+  }  // else: same slots (a restart, an update-% change), the states stay where they are
+  e.slot_of = std::move(slot_of);
+  e.pixel_count = n;
+  // The display's copy of the order, replaced only when the order changed.
   if (e.cfg.mode != RenderMode::frameless)
     e.display_order.reset();
-  else if (!e.display_order || *e.display_order != e.slot_pixel)
-    e.display_order = std::make_shared<const std::vector<uint32_t>>(e.slot_pixel);
+  else if (!e.display_order || *e.display_order != slot_pixel)
+    e.display_order = std::make_shared<const std::vector<uint32_t>>(std::move(slot_pixel));
   for (auto& b : e.frames.buf) b.assign(n, PixelSnapshot{});
   e.sample_seed_base = mix64(e.scene.settings.seed ^ mix64(e.cfg.seed));
   e.generation.fetch_add(1, std::memory_order_release);
@@ -86,7 +93,7 @@ Engine::Engine(const Scene& scene, const EngineConfig& config, const Camera& cam
     : impl_(std::make_unique<Impl>(scene, config, camera)) {
   const std::string problem = validate(config);
   if (!problem.empty()) throw std::invalid_argument("engine config: " + problem);
-  rebuild_layout(*impl_, true);
+  rebuild_layout(*impl_, EngineConfig(impl_->cfg));
 }
 
 Engine::~Engine() { stop(); }
@@ -98,7 +105,6 @@ void Engine::start() {
     std::lock_guard<std::mutex> lock(e.layout_mutex);
     e.stop_flag.store(false, std::memory_order_relaxed);
     e.counters.reset(new ThreadCounters[size_t(e.threads)]);
-    e.counter_count = e.threads;
     e.logs.assign(size_t(e.threads), UpdateLog{});
     if (e.cfg.update_log_capacity > 0)
       for (UpdateLog& l : e.logs) l.records.reserve(e.cfg.update_log_capacity);
@@ -174,12 +180,7 @@ void Engine::reconfigure(const EngineConfig& config) {
   Impl& e = *impl_;
   const bool was_running = e.running;
   stop();
-  const bool resized = config.width != e.cfg.width || config.height != e.cfg.height;
-  {
-    std::lock_guard<std::mutex> lock(e.layout_mutex);  // the display reads cfg while collecting
-    e.cfg = config;
-  }
-  rebuild_layout(e, resized);
+  rebuild_layout(e, config);
   if (was_running) start();
 }
 
@@ -293,8 +294,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.slot_pixel = e.display_order;
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
-  // A thread-count change while stopped takes effect at start(): never index past the counters.
-  const int threads = e.counters ? std::min(e.threads, e.counter_count) : 0;
+  const int threads = e.threads;  // counters always have this many entries (see rebuild_layout)
   for (int t = 0; t < threads; ++t) {
     r.samples += e.counters[t].samples.load(std::memory_order_relaxed);
     r.dropped += e.counters[t].dropped.load(std::memory_order_relaxed);
@@ -359,8 +359,7 @@ EngineStats Engine::stats() const {
   s.seconds = e.now() - e.start_time.load(std::memory_order_relaxed);
   s.camera_epoch = e.channel.epoch();
   s.frames_completed = e.frames.completed.load(std::memory_order_relaxed);
-  if (!e.counters) return s;
-  for (int t = 0; t < std::min(e.threads, e.counter_count); ++t) {
+  for (int t = 0; t < e.threads; ++t) {
     ThreadStats ts;
     ts.pixels = e.cfg.mode == RenderMode::frameless ? e.partition.pixels[size_t(t)].size() : 0;
     ts.samples = e.counters[t].samples.load(std::memory_order_relaxed);

@@ -13,12 +13,10 @@
 #include "frameless/adaptive.h"
 #include "frameless/camera_channel.h"
 #include "frameless/conventional_jobs.h"
+#include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
 
 namespace frameless {
-
-// CPU time of the calling thread in nanoseconds (a syscall: call it rarely).
-uint64_t thread_cpu_ns();
 
 // Per-thread counters, written by the owner only (relaxed), read by anyone.
 struct alignas(64) ThreadCounters {
@@ -74,18 +72,17 @@ struct Engine::Impl {
   // Pixel states are stored in the order their owner visits them (frameless: thread by thread
   // along each partition list; conventional: job order), so the render threads and the display
   // walk memory sequentially instead of jumping between scattered chunks. Pixel p lives in
-  // states[slot_of[p]]; slot s holds pixel slot_pixel[s].
+  // states[slot_of[p]].
   std::unique_ptr<PixelState[]> states;
   std::vector<uint32_t> slot_of;
-  std::vector<uint32_t> slot_pixel;
   std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
-  // The display's copy of slot_pixel (frameless; null in conventional mode), immutable once built.
+  // Frameless: the pixel each slot holds, shared with the display (immutable once built); null
+  // in conventional mode.
   std::shared_ptr<const std::vector<uint32_t>> display_order;
   uint64_t cleared = 0;  // layouts built with cleared pixel states (guarded by layout_mutex)
   size_t pixel_count = 0;
   int threads = 1;
   std::unique_ptr<ThreadCounters[]> counters;
-  int counter_count = 0;  // entries in counters: threads at the last start() (may differ while stopped)
   std::vector<UpdateLog> logs;
   std::vector<FramelessWorker> workers;
   std::vector<TileJob> jobs;
