@@ -2,21 +2,15 @@
 #include "tools/latency_trial.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "display/display_thread.h"
 #include "frameless/engine.h"
+#include "tools/bench_report.h"
 
 namespace frameless::cli {
-namespace {
-
-void sleep_s(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
-
-}  // namespace
 
 LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, const Camera& camera,
                              double refresh_hz, double max_seconds) {
@@ -27,10 +21,10 @@ LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, con
   std::mutex m;
   std::vector<std::pair<double, double>> series;  // (engine seconds, coverage)
   uint32_t watched = 0;
-  d.set_on_tick([&](const DisplayImage& img) {
+  d.set_on_tick_info([&](const FrameInfo& info) {
     std::lock_guard<std::mutex> lock(m);
-    if (watched && img.info.newest_epoch == watched)
-      series.push_back({img.info.virtual_time, img.info.coverage});
+    if (watched && info.newest_epoch == watched)
+      series.push_back({info.virtual_time, info.coverage});
   });
   e.start();
   d.start();

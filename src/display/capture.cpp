@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <deque>
@@ -119,12 +120,16 @@ Result<bool> write_display_exr(const std::string& path, const DisplayImage& img,
   for (size_t l = 0; l < layers.size(); ++l) {
     float* dst = planes.data() + l * n;
     const std::string& name = layers[l];
-    for (size_t i = 0; i < n; ++i) {
-      if (name == "age") dst[i] = img.age(i);
-      else if (name == "count") dst[i] = float(img.sample_count[i]);
-      else if (name == "variance") dst[i] = img.variance[i];
-      else if (name == "epoch") dst[i] = float(img.epoch[i]);
-      else return Error{path + ": unknown layer '" + name + "'"};
+    if (name == "age") {
+      for (size_t i = 0; i < n; ++i) dst[i] = img.age(i);
+    } else if (name == "count") {
+      for (size_t i = 0; i < n; ++i) dst[i] = float(img.sample_count[i]);
+    } else if (name == "variance") {
+      std::copy(img.variance.begin(), img.variance.begin() + ptrdiff_t(n), dst);
+    } else if (name == "epoch") {
+      for (size_t i = 0; i < n; ++i) dst[i] = float(img.epoch[i]);
+    } else {
+      return Error{path + ": unknown layer '" + name + "'"};
     }
     channels.push_back({name, false, dst, 1});
   }
@@ -243,9 +248,9 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
     std::mutex mutex;
     std::condition_variable cv;
     std::deque<FrameInfo> ticks;
-    display.set_on_tick([&](const DisplayImage& img) {
+    display.set_on_tick_info([&](const FrameInfo& info) {
       std::lock_guard<std::mutex> lock(mutex);
-      ticks.push_back(img.info);
+      ticks.push_back(info);
       cv.notify_one();
     });
     engine.start();
@@ -280,7 +285,7 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
     }
     display.stop();
     engine.stop();
-    display.set_on_tick(nullptr);
+    display.set_on_tick_info(nullptr);
   }
   engine.stop();
   if (opt.progress) std::fprintf(stderr, "\n");

@@ -21,14 +21,4 @@ void DisplayImage::reset(int w, int h) {
   epoch.assign(n, 0);
 }
 
-void copy_pixel(const DisplayImage& src, DisplayImage& dst, size_t i) {
-  dst.rgb[3 * i] = src.rgb[3 * i];
-  dst.rgb[3 * i + 1] = src.rgb[3 * i + 1];
-  dst.rgb[3 * i + 2] = src.rgb[3 * i + 2];
-  dst.last_update[i] = src.last_update[i];
-  dst.sample_count[i] = src.sample_count[i];
-  dst.variance[i] = src.variance[i];
-  dst.epoch[i] = src.epoch[i];
-}
-
 }  // namespace frameless

@@ -41,7 +41,4 @@ struct DisplayImage {
   void reset(int w, int h);
 };
 
-// Copies the layers of pixel i from `src` into `dst` (same size).
-void copy_pixel(const DisplayImage& src, DisplayImage& dst, size_t i);
-
 }  // namespace frameless

@@ -7,8 +7,6 @@
 // the on-tick callback when one is set.
 #include "display/display_thread.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstring>
@@ -19,14 +17,10 @@
 #include <mutex>
 #include <thread>
 
+#include "frameless/cpu_clock.h"
+
 namespace frameless {
 namespace {
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 constexpr uint32_t kNew = 4;
 constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
@@ -129,6 +123,22 @@ void export_image(const PixelImage& src, DisplayImage& dst) {
   dst.info = src.info;
 }
 
+// Brings `out` (public layers, pixel order) up to `img`: patches the slots changed since the
+// image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it.
+void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
+  const uint64_t now = img.info.index + 1;
+  if (out.width == img.width && out.height == img.height && img.history.covers(synced, now)) {
+    for (uint64_t t = synced; t < now; ++t)
+      for (const SlotRun& run : img.history.runs[t % kHistory])
+        for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
+          export_pixel(img.px[s], out, img.pixel_of(s));
+    out.info = img.info;
+  } else {
+    export_image(img, out);
+  }
+  synced = now;
+}
+
 // dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).
 void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.width = src.width;
@@ -147,7 +157,8 @@ struct DisplayThread::Impl {
   Engine& engine;
   mutable std::mutex config_mutex;
   DisplayConfig config;
-  std::function<void(const DisplayImage&)> on_tick;
+  std::function<void(const DisplayImage&)> on_tick;  // gets the public image (built for it)
+  std::function<void(const FrameInfo&)> on_tick_info;  // gets the tick's FrameInfo only
 
   // Display-thread state.
   UpdateCursor cursor;
@@ -207,7 +218,6 @@ struct DisplayThread::Impl {
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
   void publish();
-  void update_tick_image(const PixelImage& img, bool full);
   void thread_main();
 };
 
@@ -318,9 +328,10 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 
   publish();
   if (on_tick) {
-    update_tick_image(image, full);
+    sync_public(image, tick_image, tick_image_synced);
     on_tick(tick_image);
   }
+  if (on_tick_info) on_tick_info(info);
   ++tick_index;
   return info;
 }
@@ -364,21 +375,6 @@ void DisplayThread::Impl::publish() {
   newest = back;
   const uint32_t old = middle.exchange(back | kNew, std::memory_order_acq_rel);
   back = old & 3u;
-}
-
-// Brings the callback's public image up to this tick: this tick's dirty pixels when it was
-// current at the previous tick, else everything.
-void DisplayThread::Impl::update_tick_image(const PixelImage& img, bool full) {
-  if (full || tick_image_synced != tick_index || tick_image.width != img.width ||
-      tick_image.height != img.height) {
-    export_image(img, tick_image);
-  } else {
-    for (const SlotRun& run : history.runs[tick_index % kHistory])
-      for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
-        export_pixel(img.px[s], tick_image, img.pixel_of(s));
-    tick_image.info = img.info;
-  }
-  tick_image_synced = tick_index + 1;
 }
 
 void DisplayThread::Impl::thread_main() {
@@ -484,19 +480,7 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
     d.front = old & 3u;
     // The public layers are built here, on the consumer's thread, and only for images it takes:
     // from the image's change history when it covers the ticks since the last one taken.
-    const PixelImage& img = d.buf[d.front];
-    const uint64_t now = img.info.index + 1;
-    if (d.latest.width == img.width && d.latest.height == img.height &&
-        img.history.covers(d.latest_synced, now)) {
-      for (uint64_t t = d.latest_synced; t < now; ++t)
-        for (const SlotRun& run : img.history.runs[t % kHistory])
-          for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
-            export_pixel(img.px[s], d.latest, img.pixel_of(s));
-      d.latest.info = img.info;
-    } else {
-      export_image(img, d.latest);
-    }
-    d.latest_synced = now;
+    sync_public(d.buf[d.front], d.latest, d.latest_synced);
   }
   if (is_new) *is_new = fresh;
   return d.latest;
@@ -504,6 +488,10 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
 
 void DisplayThread::set_on_tick(std::function<void(const DisplayImage&)> callback) {
   impl_->on_tick = std::move(callback);
+}
+
+void DisplayThread::set_on_tick_info(std::function<void(const FrameInfo&)> callback) {
+  impl_->on_tick_info = std::move(callback);
 }
 
 DisplayStats DisplayThread::stats() const {

@@ -62,6 +62,9 @@ class DisplayThread {
   // Called on the display thread after every tick with the image just produced (keep it short).
   // Set before start(), or while stopped.
   void set_on_tick(std::function<void(const DisplayImage&)> callback);
+  // Called on the display thread after every tick with that tick's FrameInfo only: no image is
+  // built for it, so prefer it when the callback does not read pixels. Same rules as set_on_tick.
+  void set_on_tick_info(std::function<void(const FrameInfo&)> callback);
 
   DisplayStats stats() const;
   // The error that stopped the display thread (an exception in a tick or callback); empty if none.

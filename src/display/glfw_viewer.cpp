@@ -303,7 +303,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
   dc.blend = opt.blend;
   DisplayThread display(engine, dc);
   // Each display tick wakes the main loop (glfwPostEmptyEvent is safe from any thread).
-  display.set_on_tick([](const DisplayImage&) { glfwPostEmptyEvent(); });
+  display.set_on_tick_info([](const FrameInfo&) { glfwPostEmptyEvent(); });
 
   Viewer v{scene, opt};
   v.window = window, v.engine = &engine, v.display = &display, v.presenter = presenter.value().get();
@@ -375,7 +375,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
   }
   display.stop();
   engine.stop();
-  display.set_on_tick(nullptr);
+  display.set_on_tick_info(nullptr);
   if (!opt.record_path.empty()) {
     v.recording.keyframes.push_back({v.now(), v.camera});
     if (auto r = write_text_file_atomic(opt.record_path, camera_path_to_json(v.recording, "frameless view --record"));

@@ -170,12 +170,6 @@ void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t
   }
 }
 
-uint64_t thread_cpu_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
-
 void frameless_thread_main(Engine::Impl& e, int t) {
   enable_flush_to_zero();
   try {
