@@ -24,17 +24,6 @@ constexpr int kStackSize = 512;
 // the factor into 1 / dir for the exit planes, which costs one more rounding: gamma(4).
 constexpr float kRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
 
-#if defined(FRAMELESS_ACCEL_COUNTERS)
-// Development counters (off in every normal build): traversal work per ray.
-struct AccelCounters {
-  uint64_t nodes = 0, leaves = 0, prims = 0;
-};
-thread_local AccelCounters g_counters;
-#define FRAMELESS_COUNT(field, n) (g_counters.field += (n))
-#else
-#define FRAMELESS_COUNT(field, n) ((void)0)
-#endif
-
 struct StackEntry {
   uint32_t ref;
   uint32_t info;
@@ -203,7 +192,6 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
   for (;;) {
     if (info == 0) {
       const Bvh8Node& node = nodes[ref];
-      FRAMELESS_COUNT(nodes, 1);
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
       if (mask != 0) {
@@ -245,8 +233,6 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
       }
     } else if (info & kSphereLeafBit) {
       const uint32_t count = info & 0x7f;
-      FRAMELESS_COUNT(leaves, 1);
-      FRAMELESS_COUNT(prims, count);
       for (uint32_t k = 0; k < count; ++k) {
         float t;
         if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax, t)) {
@@ -260,8 +246,6 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
         }
       }
     } else {
-      FRAMELESS_COUNT(leaves, 1);
-      FRAMELESS_COUNT(prims, info);
       for (uint32_t k = 0; k < info; ++k) {
         const UVec3 tri = tris[ref + k];
         float t, u, v;
@@ -302,12 +286,5 @@ bool Accel::occluded(const Ray& ray) const {
 }
 
 const AccelStats& Accel::stats() const { return impl_->stats; }
-
-#if defined(FRAMELESS_ACCEL_COUNTERS)
-void accel_counters(uint64_t& nodes, uint64_t& leaves, uint64_t& prims) {
-  nodes = g_counters.nodes, leaves = g_counters.leaves, prims = g_counters.prims;
-  g_counters = {};
-}
-#endif
 
 }  // namespace frameless

@@ -1,16 +1,9 @@
 // Scene analysis and shading-path choice (docs/adaptive.md, "Skip what a scene doesn't need").
 #include "core/scene_analysis.h"
 
+#include "core/shading.h"
+
 namespace frameless {
-
-namespace {
-
-float r0_of_ior(float ior) {
-  const float r = (ior - 1.0f) / (ior + 1.0f);
-  return r * r;
-}
-
-}  // namespace
 
 SceneFeatures analyse_scene(const Scene& scene) {
   SceneFeatures f;
@@ -50,7 +43,7 @@ bool apply_scene_variant(Scene& scene, const std::string& variant) {
       if (m.cls == MaterialClass::kDielectric) {
         m.cls = MaterialClass::kPolished;
         m.kd = Vec3(0.6f);
-        m.r0 = Vec3(r0_of_ior(m.ior));
+        m.r0 = Vec3(r0_from_ior(m.ior));
       }
   } else if (variant == "no-highlights") {
     for (Material& m : scene.materials) {

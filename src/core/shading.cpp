@@ -31,7 +31,6 @@ inline float pow5(float x) {
   return x2 * x2 * x;
 }
 
-inline float max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
 // Blinn-Phong lobe (h.n)^N, zero when h points below the surface.
 inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {
@@ -256,18 +255,11 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
 // One entry per shading path, indexed by its ShadeBits.
 using TraceFn = Vec3 (*)(const ShadeContext&, const Ray&, const Vec3&, int, const Vec3&,
                          const Material*, Hit*, SurfacePoint*);
-using ShadeFn = Vec3 (*)(const ShadeContext&, const Ray&, const SurfacePoint&, int, const Vec3&,
-                         const Material*);
 template <size_t... I>
 constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::index_sequence<I...>) {
   return {&trace_from<uint32_t(I)>...};
 }
-template <size_t... I>
-constexpr std::array<ShadeFn, sizeof...(I)> shade_table(std::index_sequence<I...>) {
-  return {&shade_surface_path<uint32_t(I)>...};
-}
 constexpr auto kTracePaths = trace_table(std::make_index_sequence<kShadePaths>{});
-constexpr auto kShadePathFns = shade_table(std::make_index_sequence<kShadePaths>{});
 
 }  // namespace
 
@@ -319,12 +311,6 @@ FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0) {
   f.ks = schlick(std::min(c, f.cos_t), r0);
   f.kt = 1.0f - f.ks;
   return f;
-}
-
-Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
-                   const Vec3& weight, const Material* medium) {
-  return kShadePathFns[shade_path(scene) % kShadePaths](make_context(scene), ray, sp, depth,
-                                                        weight, medium);
 }
 
 Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,

@@ -43,8 +43,4 @@ Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int 
                          const Vec3& weight, const Material* medium, Hit* first_hit = nullptr,
                          SurfacePoint* first_point = nullptr);
 
-// Equation 1/2 at one surface point seen along ray (the hit already found), with recursion.
-Vec3 shade_surface(const Scene& scene, const Ray& ray, const SurfacePoint& sp, int depth,
-                   const Vec3& weight, const Material* medium);
-
 }  // namespace frameless
