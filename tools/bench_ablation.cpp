@@ -1,8 +1,6 @@
 // `frameless bench ablation`: switches each skip of the per-sample path (and variance tracking,
 // and adaptive sampling) off and on; reports the time each saves and proves the image unchanged:
 // bit-identical where the skip is exact, within a stated tolerance otherwise. Text table + JSON.
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +18,9 @@
 #include "core/scene_analysis.h"
 #include "frameless/engine.h"
 #include "frameless/tile_render.h"
+#include "frameless/cpu_clock.h"
+#include "frameless/image_error.h"
+#include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 
@@ -60,12 +61,6 @@ std::string path_code(uint32_t path) {
   return s;
 }
 
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
 // "model name" of the first CPU in /proc/cpuinfo (empty when unknown).
 std::string cpu_model() {
   std::ifstream in("/proc/cpuinfo");
@@ -75,17 +70,6 @@ std::string cpu_model() {
       return colon == std::string::npos ? "" : line.substr(std::min(line.size(), colon + 2));
     }
   return "";
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double rmse(const std::vector<float>& a, const std::vector<float>& b) {
-  double s = 0;
-  for (size_t i = 0; i < a.size(); ++i) s += double(a[i] - b[i]) * double(a[i] - b[i]);
-  return a.empty() ? 0.0 : std::sqrt(s / double(a.size()));
 }
 
 bool bit_identical(const std::vector<float>& a, const std::vector<float>& b) {
@@ -134,7 +118,7 @@ Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(S
   r.off = median(t_off);
   r.exact = tolerance == 0;
   r.identical = bit_identical(img_on, img_off);
-  r.rmse = rmse(img_on, img_off);
+  r.rmse = image_error(img_on, img_off).rmse;
   r.tolerance = tolerance;
   r.pass = r.exact ? r.identical : r.rmse <= tolerance;
   r.check = r.exact ? "bit-identical" : "RMSE <= " + std::to_string(tolerance);
@@ -191,7 +175,7 @@ Row variance_row(const Scene& s, const EngineConfig& base, const AblationArgs& a
   }
   r.exact = true;
   r.identical = bit_identical(img[0], img[1]);
-  r.rmse = rmse(img[0], img[1]);
+  r.rmse = image_error(img[0], img[1]).rmse;
   r.pass = r.identical;
   r.check = "bit-identical";
   return r;
@@ -223,7 +207,7 @@ AdaptiveFigures adaptive_figures(const Scene& s, const EngineConfig& base, int t
       const auto t0 = std::chrono::steady_clock::now();
       e.advance(0.01);
       wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      curve[adaptive].push_back(rmse(engine_mean(e), reference));
+      curve[adaptive].push_back(image_error(engine_mean(e), reference).rmse);
       samples[adaptive].push_back(double(e.stats().samples));
       seconds[adaptive].push_back(wall);
     }

@@ -1,7 +1,5 @@
 // `frameless bench engine`: samples/s in frameless and conventional mode, display-thread CPU cost
 // at 60 Hz for 1280x720, and camera-change latency against the ideal; prints text or JSON.
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,19 +12,14 @@
 
 #include "display/display_thread.h"
 #include "frameless/engine.h"
+#include "frameless/cpu_clock.h"
+#include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 #include "tools/latency_trial.h"
 
 namespace frameless::cli {
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  if (v.empty()) return 0.0;
-  const size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 struct BenchArgs {
   std::string scene = "default";
@@ -37,16 +30,8 @@ struct BenchArgs {
   bool json = false;
 };
 
-void sleep_s(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
-
 void note(const char* what) {
   if (show_progress()) std::fprintf(stderr, "bench engine: %s...\n", what);
-}
-
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 struct Throughput {
@@ -86,12 +71,6 @@ Throughput throughput(const Scene& scene, EngineConfig c, const Camera& camera, 
   if (d.error()) throw std::runtime_error(*d.error());
   return {double(b.samples - a.samples) / (b.seconds - a.seconds),
           double(b.samples - a.samples) / std::max(1e-9, c1 - c0)};
-}
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 struct DisplayCost {

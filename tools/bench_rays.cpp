@@ -1,7 +1,6 @@
 // `frameless bench rays`: primary- and shadow-ray throughput of the BVH, single-thread and with N
 // threads, side by side with Embree (rtcIntersect1 and 8-wide packets) when it is available.
 #include <pmmintrin.h>
-#include <time.h>
 #include <xmmintrin.h>
 
 #include <algorithm>
@@ -17,6 +16,8 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "frameless/cpu_clock.h"
+#include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 
@@ -40,12 +41,6 @@ struct BenchArgs {
 void set_ftz_daz() {
   _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
   _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-}
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
 }
 
 // Runs body(begin, end) over [0, n) in chunks on `threads` threads; returns seconds. One thread

@@ -1,15 +1,19 @@
 // Shared helpers of the benchmarks: descriptions, atomic JSON/CSV, gnuplot, memory and CPU probes.
 #include "tools/bench_report.h"
 
-#include <sys/resource.h>
 #include <sys/utsname.h>
 
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "display/atomic_file.h"
 #include "frameless/reference_cache.h"
@@ -98,7 +102,6 @@ nlohmann::json describe_build() {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   j["sanitizer"] = true;
 #endif
-  j["adaptive_in_engine"] = adaptive_available();
   return j;
 }
 
@@ -233,10 +236,21 @@ double rss_bytes() { return proc_kb("VmRSS"); }
 double peak_rss_bytes() { return proc_kb("VmHWM"); }
 
 double process_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+void sleep_s(double seconds) {
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+}
+
+double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 double fit_slope(const std::vector<double>& x, const std::vector<double>& y, double* intercept,

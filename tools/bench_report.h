@@ -54,32 +54,13 @@ double rss_bytes();
 double peak_rss_bytes();
 // Process CPU seconds (user + system, all threads).
 double process_cpu_seconds();
+// Sleeps the calling thread for `seconds`.
+void sleep_s(double seconds);
+// Median of the non-NaN values (mean of the middle two for an even count); NaN when none.
+double median(std::vector<double> values);
 
 // Least-squares line y = a + b x; returns b and sets *intercept and *r2 when given.
 double fit_slope(const std::vector<double>& x, const std::vector<double>& y,
                  double* intercept = nullptr, double* r2 = nullptr);
-
-// Adaptive frameless sampling is another engineer's EngineConfig field; it is switched on here when
-// this build has it (a bool `adaptive`). Returns false when the engine has no such mode yet.
-template <class Config>
-bool enable_adaptive(Config& config) {
-  if constexpr (requires { config.adaptive = true; }) {
-    config.adaptive = true;
-    return true;
-  } else if constexpr (requires { config.adaptive.enabled = true; }) {
-    config.adaptive.enabled = true;
-    return true;
-  } else {
-    return false;
-  }
-}
-inline bool adaptive_available() {
-  EngineConfig c;
-  return enable_adaptive(c);
-}
-// Note stored under a JSON "adaptive" key while the engine has no adaptive mode.
-inline constexpr const char* kAdaptiveMissing =
-    "adaptive sampling is not in this build's engine (EngineConfig has no `adaptive` field); "
-    "value is null";
 
 }  // namespace frameless::cli

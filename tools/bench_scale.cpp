@@ -3,8 +3,6 @@
 // log(time per ray) against log N to show that ray-tracing cost grows sub-linearly (seed section
 // 4).
 #include <malloc.h>
-#include <time.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -14,6 +12,7 @@
 
 #include "core/builtin_scenes.h"
 #include "frameless/tile_render.h"
+#include "frameless/cpu_clock.h"
 #include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
@@ -30,12 +29,6 @@ struct ScaleArgs {
   int spp = 4;
   bool quick = false;
 };
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
-}
 
 struct Point {
   uint64_t n = 0;

@@ -26,8 +26,6 @@ struct ScalingArgs {
   bool quick = false;
 };
 
-void sleep_s(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
-
 struct Throughput {
   double samples_per_s = 0, cpu_fraction = 0;
 };
