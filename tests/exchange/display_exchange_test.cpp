@@ -1,7 +1,7 @@
 // The whole render -> display -> consumer exchange with real threads (run under ThreadSanitizer
 // in CI): 4 render threads, the display thread at 240 Hz, camera changes at 1 kHz, a consumer
 // taking images through the triple buffer and the on-tick callback, and layout changes (thread
-// count, mode) while everything runs. The eye shader paints camera k's epoch value k into every
+// count, mode, size) while everything runs. The eye shader paints camera k's epoch value k into every
 // channel and the blend weight is 1, so every displayed pixel must read exactly its epoch layer:
 // a torn pixel, a pixel moved to the wrong slot or a half-copied buffer would break that.
 #include <gtest/gtest.h>
@@ -78,7 +78,10 @@ TEST(DisplayExchange, WholePixelsThroughCameraStormAndLayoutChanges) {
     quarter = q;
     if (q == 1) e.set_threads(3);                    // new partition: every pixel changes slot
     if (q == 2) e.set_mode(RenderMode::conventional);  // slot order becomes pixel order
-    if (q == 3) e.set_mode(RenderMode::frameless);
+    if (q == 3) {
+      e.resize(80, 56);  // size and layout must reach the display together
+      e.set_mode(RenderMode::frameless);
+    }
   }
   d.stop();
   done = true;
