@@ -178,7 +178,8 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
   const BoxRay br = make_box_ray(ray);
-  const TriangleRay tr = make_triangle_ray(ray);
+  // Sphere-only scenes (up to 35 M spheres) skip the shear set-up and its divisions.
+  const TriangleRay tr = num_tris ? make_triangle_ray(ray) : TriangleRay{};
   const float tmin = ray.tmin;
   float tmax = ray.tmax;
   // Box entry distances carry rounding error too: compare them against a widened tmax, or a box
