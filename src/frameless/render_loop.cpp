@@ -2,7 +2,6 @@
 // publish), the frameless walking loop and the conventional job loop. The per-sample path holds
 // no lock, allocates nothing and makes no system call.
 #include <cmath>
-#include <ctime>
 
 #include "core/rng.h"
 #include "frameless/adaptive.h"
@@ -73,10 +72,10 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
     sum += s;
     if (count != 0xffffffffu) ++count;  // saturates: the mean then becomes a slow moving average
     if (tracks_variance(e.cfg)) {
-      const double lum_mean = 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2];
-      const double lum = 0.2126 * s.x + 0.7152 * s.y + 0.0722 * s.z;
+      const double lum_mean = luminance(mean[0], mean[1], mean[2]);
+      const double lum = luminance(s.x, s.y, s.z);
       for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
-      const double lum_new = 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2];
+      const double lum_new = luminance(mean[0], mean[1], mean[2]);
       m2 += (lum - lum_mean) * (lum - lum_new);  // Welford: delta * (x - new mean)
     } else {
       for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
