@@ -85,10 +85,11 @@ TemporalStats analyze_temporal(const UpdateTrace& t) {
   return s;
 }
 
-StalenessStats analyze_staleness(const UpdateTrace& t, int curve_points) {
+StalenessStats analyze_staleness(const UpdateTrace& t, const TemporalStats& temporal,
+                                 int curve_points) {
   StalenessStats s;
   s.bound_sweeps = 1.0 + t.update_percent / 100.0;
-  s.max_age_sweeps = analyze_temporal(t).max_sweeps;
+  s.max_age_sweeps = temporal.max_sweeps;
   if (t.change_time < 0 || t.sweep_seconds <= 0) return s;
   s.measured = true;
   const size_t n = size_t(t.width) * size_t(t.height);
@@ -158,7 +159,7 @@ OrderStats analyze_trace(const UpdateTrace& t, const StructureOptions& options) 
     s.typical_mask_tick = t.mask_ticks_begin + uint32_t(masks.size() / 2);
   }
   s.temporal = analyze_temporal(t);
-  s.staleness = analyze_staleness(t);
+  s.staleness = analyze_staleness(t, s.temporal);
   s.balance = analyze_balance(t);
   return s;
 }

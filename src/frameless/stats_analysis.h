@@ -88,7 +88,9 @@ struct OrderStats {
 
 // Per-interval masks of display ticks [begin, end): masks[k][pixel] = 1 if updated in tick begin+k.
 std::vector<std::vector<uint8_t>> interval_masks(const UpdateTrace& trace, uint32_t begin, uint32_t end);
-StalenessStats analyze_staleness(const UpdateTrace& trace, int curve_points = 81);
+// `temporal`: analyze_temporal(trace), passed in so the trace is not walked twice.
+StalenessStats analyze_staleness(const UpdateTrace& trace, const TemporalStats& temporal,
+                                 int curve_points = 81);
 TemporalStats analyze_temporal(const UpdateTrace& trace);
 BalanceStats analyze_balance(const UpdateTrace& trace);
 

@@ -49,7 +49,7 @@ TEST(StatsStaleness, EveryPixelShowsTheNewCameraWithinTheBound) {
         SCOPED_TRACE(std::string(to_string(order)) + " threads " + std::to_string(threads) +
                      " percent " + std::to_string(percent));
         const UpdateTrace t = run(threads, percent, order);
-        const StalenessStats s = analyze_staleness(t);
+        const StalenessStats s = analyze_staleness(t, analyze_temporal(t));
         ASSERT_TRUE(s.measured);
         EXPECT_EQ(s.never, 0u);
         EXPECT_LE(s.t100_sweeps, s.bound_sweeps + slack(t));
@@ -67,14 +67,14 @@ TEST(StatsStaleness, EveryPixelShowsTheNewCameraWithinTheBound) {
 // that never sees the new camera makes the time to 100% infinite.
 TEST(StatsStaleness, BoundBitesOnSlowPickupAndOnAMissedPixel) {
   const UpdateTrace t = run(3, 25.0, PixelOrder::hilbert_shuffled);
-  const StalenessStats slow = analyze_staleness(t);
+  const StalenessStats slow = analyze_staleness(t, analyze_temporal(t));
   EXPECT_GT(slow.t100_sweeps, 1.01 + slack(t));
 
   UpdateTrace missed = run(2, 1.0, PixelOrder::hilbert_shuffled);
   const uint32_t victim = missed.logs[0].front().pixel;
   for (UpdateRecord& r : missed.logs[0])
     if (r.pixel == victim) r.epoch = 0;  // as if this pixel kept the old camera
-  const StalenessStats s = analyze_staleness(missed);
+  const StalenessStats s = analyze_staleness(missed, analyze_temporal(missed));
   EXPECT_EQ(s.never, 1u);
   EXPECT_FALSE(s.t100_sweeps <= s.bound_sweeps + slack(missed));
 }
