@@ -281,7 +281,7 @@ int run_ablation(const AblationArgs& a) {
   std::string error;
   int w = 0, h = 0;
   if (!parse_size(a.size, w, h, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.spp < 1 || a.spp > 4096) return report_error("--spp: must be 1..4096");
   if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be 1..100");
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");

@@ -123,7 +123,7 @@ int run_bench(const BenchArgs& a) {
   std::string error;
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
   if (!scene) return 2;

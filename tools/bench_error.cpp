@@ -47,8 +47,7 @@ int run_error(ErrorArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024)
-    return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 3600)) return report_error("--seconds: must be in (0, 3600]");
   if (!(a.refresh >= 1 && a.refresh <= 240)) return report_error("--refresh: must be in [1, 240]");
   if (!(a.alpha > 0 && a.alpha <= 1)) return report_error("--alpha: must be in (0, 1]");

@@ -38,8 +38,7 @@ int run_latency(LatencyArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024)
-    return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be in [1, 100]");
   if (!(a.refresh >= 1 && a.refresh <= 240)) return report_error("--refresh: must be in [1, 240]");
   if (a.percents.empty()) return report_error("--update-percents: at least one value");

@@ -61,8 +61,7 @@ int run_motion(MotionArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024)
-    return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.move_seconds > 0 && a.move_seconds <= 600))
     return report_error("--move-seconds: must be in (0, 600]");
   if (!(a.hold_seconds >= 0 && a.hold_seconds <= 600))

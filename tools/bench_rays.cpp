@@ -81,8 +81,7 @@ int run_bench(BenchArgs& a) {
   int width = 0, height = 0;
   std::string error;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024)
-    return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);

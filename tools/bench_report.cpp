@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "display/atomic_file.h"
+#include "display/manifest.h"
 #include "frameless/reference_cache.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
@@ -149,18 +150,9 @@ bool prepare_out_dir(const std::string& dir, std::string& error) {
 }
 
 bool write_text_atomic(const std::string& path, const std::string& text, std::string& error) {
-  const std::string tmp = temporary_path_for(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      error = path + ": cannot write";
-      return false;
-    }
-  }
-  return commit_temporary(tmp, path, error);
+  const Result<bool> r = write_text_file_atomic(path, text);
+  if (!r.ok()) error = r.error().message;
+  return r.ok();
 }
 
 bool write_json(const std::string& path, const nlohmann::json& j, std::string& error) {

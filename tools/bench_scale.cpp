@@ -79,8 +79,7 @@ int run_scale(ScaleArgs a) {
   }
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (a.threads < 0 || a.threads > 1024)
-    return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.spp < 1 || a.spp > 4096) return report_error("--spp: must be in [1, 4096]");
   if (!(a.max_n >= 1 && a.max_n <= double(kMaxRandomSpheres)))
     return report_error("--max-n: must be in [1, " + std::to_string(kMaxRandomSpheres) + "]");

@@ -49,6 +49,12 @@ int hardware_threads() {
   return n ? int(n) : 1;
 }
 
+bool valid_threads(int threads, std::string& error) {
+  if (threads >= 0 && threads <= 1024) return true;
+  error = "--threads: must be 0 (all cores) to 1024, got " + std::to_string(threads);
+  return false;
+}
+
 std::unique_ptr<Scene> load_scene_or_report(const std::string& spec) {
   auto result = load_scene(spec);
   if (!result.ok()) {

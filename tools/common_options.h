@@ -26,6 +26,8 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 
 // Number of hardware threads (at least 1).
 int hardware_threads();
+// Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
+bool valid_threads(int threads, std::string& error);
 
 // Loads a scene spec (see load_scene) and prints "frameless: <error>" on failure.
 std::unique_ptr<Scene> load_scene_or_report(const std::string& spec);

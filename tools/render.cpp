@@ -40,7 +40,7 @@ int run_render(const RenderArgs& a) {
   if (!output_dir_ok(a.out, error)) return report_error(error);
   if (!a.png.empty() && !output_dir_ok(a.png, error)) return report_error(error);
   if (a.spp < 0 || a.spp > 1 << 20) return report_error("--spp: must be between 1 and 1048576");
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
 
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
   if (!scene) return 2;

@@ -16,6 +16,7 @@
 #include "display/atomic_file.h"
 #include "display/png_io.h"
 #include "frameless/stats_run.h"
+#include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 
@@ -49,19 +50,6 @@ struct OrderResult {
   double samples_per_s = 0;
   uint64_t overflow = 0;
 };
-
-bool write_text(const std::string& path, const std::string& text, std::string& error) {
-  const std::string tmp = temporary_path_for(path);
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f.good()) {
-      error = path + ": cannot write";
-      return false;
-    }
-  }
-  return commit_temporary(tmp, path, error);
-}
 
 // Updated pixels white, the rest black; gaps between panels grey.
 bool write_masks_png(const std::string& path, int w, int h, const std::vector<const OrderResult*>& rs,
@@ -117,7 +105,7 @@ bool write_plot(const std::string& dir, const std::vector<OrderResult>& rs, std:
       stale += std::to_string(sl.curve_sweeps[i]) + " " + std::to_string(sl.curve_fraction[i]) + "\n";
     stale += "\n\n";
   }
-  if (!write_text(dir + "/spectrum.dat", spectrum, error) || !write_text(dir + "/staleness.dat", stale, error))
+  if (!write_text_atomic(dir + "/spectrum.dat", spectrum, error) || !write_text_atomic(dir + "/staleness.dat", stale, error))
     return false;
   const std::string png = dir + "/compare.png";
   const std::string tmp = temporary_path_for(png);
@@ -151,7 +139,7 @@ bool write_plot(const std::string& dir, const std::vector<OrderResult>& rs, std:
               " using 1:2 with lines lw 2 title '" + to_string(rs[k].order) + "'";
   script += "\nunset multiplot\nset output\n";
   const std::string gp = dir + "/compare.gp";
-  if (!write_text(gp, script, error)) return false;
+  if (!write_text_atomic(gp, script, error)) return false;
   if (!gnuplot_available()) {
     std::fprintf(stderr, "frameless: gnuplot not found; skipped %s (script in %s)\n", png.c_str(), gp.c_str());
     return true;
@@ -229,7 +217,7 @@ int run_stats(const StatsArgs& a) {
     return report_error("--duration: wall-clock runs only (use --sweeps with --deterministic)");
   if (a.sweeps < 0 || a.sweeps > 1000) return report_error("--sweeps: must be between 0 and 1000");
   if (a.duration < 0 || a.duration > 3600) return report_error("--duration: must be between 0 and 3600 seconds");
-  if (a.threads < 0 || a.threads > 1024) return report_error("--threads: must be between 1 and 1024");
+  if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.chunk < 1 || a.chunk > 1 << 20) return report_error("--chunk: must be between 1 and 1048576");
   if (!(a.update_percent >= 0.01 && a.update_percent <= 100))
     return report_error("--update-percent: must be between 0.01 and 100");
@@ -306,7 +294,7 @@ int run_stats(const StatsArgs& a) {
                  {"clock", deterministic ? "virtual (per-thread samples_per_s are virtual; samples_per_s is "
                                            "wall clock with the ray tracer)" : "wall"}};
   for (const OrderResult& r : results) j["orders"][to_string(r.order)] = to_json(r, a.chunk);
-  if (!write_text(a.out + "/stats.json", j.dump(2) + "\n", error)) return report_error(error);
+  if (!write_text_atomic(a.out + "/stats.json", j.dump(2) + "\n", error)) return report_error(error);
 
   std::vector<const OrderResult*> all;
   for (const OrderResult& r : results) {
