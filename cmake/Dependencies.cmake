@@ -6,6 +6,8 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(PNG REQUIRED)
+find_package(JPEG REQUIRED)      # texture decoding (libjpeg-turbo)
+find_package(TinyGLTF REQUIRED CONFIG)  # glTF 2.0 models
 find_package(embree 3 QUIET CONFIG)  # optional, bench-only: frameless bench rays compares with it
 if(embree_FOUND)
   message(STATUS "Embree ${embree_VERSION} found: bench rays will compare against it")

@@ -22,6 +22,7 @@ namespace frameless::cli {
 namespace {
 
 struct BenchArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "640x360";
   int threads = 0;
@@ -125,7 +126,7 @@ int run_bench(const BenchArgs& a) {
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   EngineConfig c;
   c.width = width;
@@ -223,6 +224,7 @@ const bool registered = register_command(
     [](CLI::App& app) {
       auto args = std::make_shared<BenchArgs>();
       app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
+      args->shadows.add_to(app);
       app.add_option("--size", args->size, "Image size WxH for throughput and latency (default 640x360)");
       app.add_option("--threads", args->threads, "Render threads (default: all hardware threads)");
       app.add_option("--seconds", args->seconds, "Seconds per throughput measurement (default 2)");

@@ -17,6 +17,7 @@ namespace frameless::cli {
 namespace {
 
 struct LatencyArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "320x240";
   std::string out;
@@ -46,7 +47,7 @@ int run_latency(LatencyArgs a) {
     if (!(p >= 0.01 && p <= 100))
       return report_error("--update-percents: each must be in [0.01, 100]");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   try {
@@ -150,6 +151,7 @@ const bool registered = register_command(
       auto args = std::make_shared<LatencyArgs>();
       app.add_option("scene", args->scene,
                      "Scene: built-in name, .json, .obj or .ply (default: default)");
+      args->shadows.add_to(app);
       app.add_option("--out", args->out,
                      "Output directory (latency.json, latency.csv, latency.png)")
           ->required();

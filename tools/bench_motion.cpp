@@ -18,6 +18,7 @@ namespace frameless::cli {
 namespace {
 
 struct MotionArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "320x240";
   std::string out;
@@ -84,7 +85,7 @@ int run_motion(MotionArgs a) {
     return report_error("--ref-spp: must be in [2, 1048576]");
   if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be in [1, 100]");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   const std::string cache = a.cache.empty() ? default_reference_cache_dir(a.out) : a.cache;
@@ -332,6 +333,7 @@ const bool registered = register_command(
       auto args = std::make_shared<MotionArgs>();
       app.add_option("scene", args->scene,
                      "Scene: built-in name, .json, .obj or .ply (default: default)");
+      args->shadows.add_to(app);
       app.add_option("--out", args->out, "Output directory (motion.json, motion.csv, motion.png)")
           ->required();
       app.add_option("--size", args->size, "Image size WxH (default 320x240)");

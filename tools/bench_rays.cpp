@@ -29,6 +29,7 @@ namespace frameless::cli {
 namespace {
 
 struct BenchArgs {
+  ShadowFlags shadows;
   std::string scene = "bunny";
   std::string size = "512x512";
   int threads = 0;
@@ -84,7 +85,7 @@ int run_bench(BenchArgs& a) {
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   if (!a.camera.apply(scene->camera, error)) return report_error(error);
   const bool progress = show_progress() && !a.json;
@@ -304,6 +305,7 @@ const bool registered = register_command(
       auto a = std::make_shared<BenchArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
           ->capture_default_str();
+      a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads,
                      "threads for the parallel figures (default: all cores)");

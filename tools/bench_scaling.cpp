@@ -18,6 +18,7 @@ namespace frameless::cli {
 namespace {
 
 struct ScalingArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "320x240";
   std::string out;
@@ -100,7 +101,7 @@ int run_scaling(ScalingArgs a) {
   for (int t : a.threads)
     if (t < 1 || t > 1024) return report_error("--threads: each must be between 1 and 1024");
   if (!prepare_out_dir(a.out, error)) return report_error(error);
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   try {
     nlohmann::json settings = {
@@ -204,6 +205,7 @@ const bool registered = register_command(
       auto args = std::make_shared<ScalingArgs>();
       app.add_option("scene", args->scene,
                      "Scene: built-in name, .json, .obj or .ply (default: default)");
+      args->shadows.add_to(app);
       app.add_option("--out", args->out,
                      "Output directory (scaling.json, scaling.csv, scaling.png)")
           ->required();

@@ -14,6 +14,7 @@ namespace frameless::cli {
 namespace {
 
 struct CaptureArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string out = "captures/capture";
   std::string size = "320x240";
@@ -61,7 +62,7 @@ int run(const CaptureArgs& a) {
   // The output folder is checked before the scene is even loaded: a bad --out fails at once.
   if (auto d = prepare_output_dir(o.out_dir); !d.ok()) return report_error(d.error().message);
 
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   o.camera = scene->camera;
   if (!a.camera.apply(o.camera, error)) return report_error(error);
@@ -108,6 +109,7 @@ const bool registered = register_command(
       auto a = std::make_shared<CaptureArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
           ->capture_default_str();
+      a->shadows.add_to(app);
       app.add_option("--out", a->out, "output folder (frames, manifest.json, contact_sheet.png)")
           ->capture_default_str();
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();

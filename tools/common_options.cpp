@@ -29,6 +29,36 @@ bool CameraFlags::apply(Camera& camera, std::string& error) const {
   return true;
 }
 
+void ShadowFlags::add_to(CLI::App& app) {
+  app.add_option("--shadows", mode,
+                 "shadows of lights with a radius: soft (single-sample, default), hard, or area "
+                 "(reference: --shadow-samples rays per light)");
+  app.add_option("--shadow-samples", samples, "rays per light for --shadows area (1..4096)");
+  app.add_flag("--transparent-shadows", transparent,
+               "dielectrics attenuate shadow rays (k_t and absorption) instead of blocking them");
+}
+
+bool ShadowFlags::apply(Scene& scene, std::string& error) const {
+  ShadowMode m = scene.settings.shadows;
+  if (mode == "soft") m = ShadowMode::kSoft;
+  else if (mode == "hard") m = ShadowMode::kHard;
+  else if (mode == "area") m = ShadowMode::kArea;
+  else if (!mode.empty()) {
+    error = "--shadows: expected soft, hard or area, got '" + mode + "'";
+    return false;
+  }
+  int n = scene.settings.shadow_samples;
+  if (samples) {
+    if (*samples < 1 || *samples > 4096) {
+      error = "--shadow-samples: must be 1..4096, got " + std::to_string(*samples);
+      return false;
+    }
+    n = *samples;
+  }
+  set_shadow_settings(scene, m, n, transparent || scene.settings.transparent_shadows);
+  return true;
+}
+
 bool parse_size(const std::string& text, int& width, int& height, std::string& error) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
@@ -55,10 +85,15 @@ bool valid_threads(int threads, std::string& error) {
   return false;
 }
 
-std::unique_ptr<Scene> load_scene_or_report(const std::string& spec) {
+std::unique_ptr<Scene> load_scene_or_report(const std::string& spec, const ShadowFlags* shadows) {
   auto result = load_scene(spec);
   if (!result.ok()) {
     std::fprintf(stderr, "frameless: %s\n", result.error().message.c_str());
+    return nullptr;
+  }
+  std::string error;
+  if (shadows && !shadows->apply(*result.value(), error)) {
+    std::fprintf(stderr, "frameless: %s\n", error.c_str());
     return nullptr;
   }
   return std::move(result.value());

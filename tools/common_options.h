@@ -21,6 +21,17 @@ struct CameraFlags {
   bool apply(Camera& camera, std::string& error) const;
 };
 
+// --shadows soft|hard|area, --shadow-samples N, --transparent-shadows; unset flags keep the
+// scene's settings.
+struct ShadowFlags {
+  std::string mode;
+  std::optional<int> samples;
+  bool transparent = false;
+  void add_to(CLI::App& app);
+  // Applies the flags to a loaded scene; false with a one-line message when invalid.
+  bool apply(Scene& scene, std::string& error) const;
+};
+
 // Parses "WxH" (1..16384 each); false with a one-line message otherwise.
 bool parse_size(const std::string& text, int& width, int& height, std::string& error);
 
@@ -29,8 +40,10 @@ int hardware_threads();
 // Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
 bool valid_threads(int threads, std::string& error);
 
-// Loads a scene spec (see load_scene) and prints "frameless: <error>" on failure.
-std::unique_ptr<Scene> load_scene_or_report(const std::string& spec);
+// Loads a scene spec (see load_scene), applies the shadow flags when given, and prints
+// "frameless: <error>" on failure.
+std::unique_ptr<Scene> load_scene_or_report(const std::string& spec,
+                                            const ShadowFlags* shadows = nullptr);
 
 // Prints "frameless: <message>" to stderr and returns the exit code for bad input (2).
 int report_error(const std::string& message);

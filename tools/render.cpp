@@ -15,6 +15,7 @@ namespace frameless::cli {
 namespace {
 
 struct RenderArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size;
   int spp = 0;
@@ -42,7 +43,7 @@ int run_render(const RenderArgs& a) {
   if (a.spp < 0 || a.spp > 1 << 20) return report_error("--spp: must be between 1 and 1048576");
   if (!valid_threads(a.threads, error)) return report_error(error);
 
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   int width = scene->settings.width, height = scene->settings.height;
   if (!a.size.empty() && !parse_size(a.size, width, height, error)) return report_error(error);
@@ -88,6 +89,7 @@ const bool registered = register_command(
       auto a = std::make_shared<RenderArgs>();
       app.add_option("scene", a->scene,
                      "built-in name, .json scene or .obj/.ply mesh (default: default)");
+      a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH (default: the scene's)");
       app.add_option("--spp", a->spp, "samples per pixel (default: the scene's)");
       app.add_option("--out", a->out, "output EXR file")->capture_default_str();

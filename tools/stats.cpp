@@ -26,6 +26,7 @@ namespace {
 constexpr double kAlpha = 0.001;  // significance level of the verdicts
 
 struct StatsArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "320x240";
   int threads = 0;
@@ -234,7 +235,7 @@ int run_stats(const StatsArgs& a) {
   }
   if (!directory_writable(a.out, error)) return report_error(error);
 
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
@@ -328,6 +329,7 @@ const bool registered = register_command(
     [](CLI::App& app) {
       auto a = std::make_shared<StatsArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh (default: default)");
+      a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads, "render threads (default: all cores)");
       app.add_option("--chunk", a->chunk, "pixels per chunk of the line")->capture_default_str();

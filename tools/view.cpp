@@ -12,6 +12,7 @@ namespace frameless::cli {
 namespace {
 
 struct ViewArgs {
+  ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "640x480";
   double refresh = 60.0;
@@ -38,7 +39,7 @@ int run(const ViewArgs& a) {
   o.screenshot_path = a.screenshot;
   o.snapshot_dir = a.snapshot_dir;
   o.show_help = a.help_overlay;
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene);
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   o.camera = scene->camera;
   if (!a.camera.apply(o.camera, error)) return report_error(error);
@@ -57,6 +58,7 @@ const bool registered = register_command(
       auto a = std::make_shared<ViewArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
           ->capture_default_str();
+      a->shadows.add_to(app);
       app.add_option("--size", a->size, "window size WxH")->capture_default_str();
       app.add_option("--refresh", a->refresh, "display refresh rate, 1..240 Hz")->capture_default_str();
       a->engine.add_to(app);

@@ -46,6 +46,7 @@ struct Accel::Impl {
   const Geometry* geom = nullptr;
   std::vector<Bvh8Node> nodes;
   AccelStats stats;
+  AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces
 };
 
 Accel::Accel() : impl_(std::make_unique<Impl>()) {}
@@ -87,6 +88,7 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   // Store primitives in leaf order so a leaf is a contiguous run (no index indirection).
   permute(geom.triangles, refs, 0, nt);
   permute(geom.triangle_material, refs, 0, nt);
+  permute(geom.triangle_opposite, refs, 0, nt);
   permute(geom.spheres, refs, nt, ns);
   permute(geom.sphere_material, refs, nt, ns);
   im.nodes = std::move(bvh.nodes);
@@ -168,9 +170,19 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 #endif
 }
 
+// Whether a candidate hit on prim survives the cut-out test (always, without cut-outs).
+inline bool alpha_opaque(const Accel::AlphaTest& a, const Geometry& g, uint32_t prim,
+                         const Ray& ray, float t, float u, float v) {
+  const uint32_t nt = g.num_triangles();
+  const std::vector<uint16_t>& mats = prim < nt ? g.triangle_material : g.sphere_material;
+  const uint32_t i = prim < nt ? prim : prim - nt;
+  const uint16_t m = mats.empty() ? 0 : mats[i];
+  return !a.masked_material[m] || a.opaque(a.ctx, prim, ray, t, u, v);
+}
+
 template <bool kAnyHit>
 bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
-              Hit& hit) {
+              Hit& hit, const Accel::AlphaTest& alpha) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
   const Vec3* pos = g.positions.data();
@@ -237,6 +249,8 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
       for (uint32_t k = 0; k < count; ++k) {
         float t;
         if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax, t)) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, num_tris + ref + k, ray, t, 0.0f, 0.0f))
+            continue;
           if constexpr (kAnyHit) return true;
           tmax = t;
           tmax_box = t * kRobustFar;
@@ -251,6 +265,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
         const UVec3 tri = tris[ref + k];
         float t, u, v;
         if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax, t, u, v)) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
           if constexpr (kAnyHit) return true;
           tmax = t;
           tmax_box = t * kRobustFar;
@@ -278,12 +293,73 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
 }  // namespace
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
-  return impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit);
+  return impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
 }
 
 bool Accel::occluded(const Ray& ray) const {
   Hit unused;
-  return impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused);
+  return impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha);
+}
+
+void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }
+
+namespace {
+
+// Mask of the eight children whose boxes, grown by the cone's radius at the box's far end along
+// the axis, the axis ray enters within [0, tmax]. A point of the box inside the cone lies within
+// that radius of the axis at its own depth, so it lies in the grown box on the axis: conservative.
+inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r, float tan_half,
+                              float tmax) {
+  uint32_t mask = 0;
+  for (int i = 0; i < kBvhWidth; ++i) {
+    if (n.bounds[0][i] > n.bounds[1][i]) continue;  // empty slot
+    float far_t = 0.0f;  // largest depth along the axis of any box corner
+    for (int a = 0; a < 3; ++a)
+      far_t += std::max((n.bounds[2 * a][i] - ray.org[a]) * ray.dir[a],
+                        (n.bounds[2 * a + 1][i] - ray.org[a]) * ray.dir[a]);
+    if (!(far_t >= 0.0f)) continue;  // wholly behind the apex
+    // The rounding of far_t and of the slab test is covered by a relative margin.
+    const float grow = tan_half * std::min(far_t, tmax) * 1.0001f + 1e-30f;
+    float tn = 0.0f, tf = tmax;
+    for (int a = 0; a < 3; ++a) {
+      const float lo = n.bounds[2 * a][i] - grow, hi = n.bounds[2 * a + 1][i] + grow;
+      const float near_plane = r.near[a] & 1 ? hi : lo, far_plane = r.near[a] & 1 ? lo : hi;
+      tn = std::max(tn, (near_plane - r.org[a]) * r.inv[a]);  // NaN keeps tn
+      tf = std::min(tf, (far_plane - r.org[a]) * r.inv_far[a]);
+    }
+    mask |= uint32_t(tn <= tf) << i;
+  }
+  return mask;
+}
+
+}  // namespace
+
+bool Accel::visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) const {
+  const Impl& im = *impl_;
+  if (!im.geom || im.nodes.empty()) return true;
+  const BoxRay br = make_box_ray(ray);
+  const float tmax = ray.tmax * kRobustFar;
+  const uint32_t nt = im.geom->num_triangles();
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = {0, 0, 0.0f};
+  while (sp > 0) {
+    const StackEntry e = stack[--sp];
+    if (e.info == 0) {
+      const Bvh8Node& node = im.nodes[e.ref];
+      uint32_t mask = cone_children(node, ray, br, tan_half, tmax);
+      while (mask) {
+        const uint32_t j = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        stack[sp++] = {node.child[j], node.info[j], 0.0f};
+      }
+    } else if (e.info & kSphereLeafBit) {
+      if (!visitor.leaf(nt + e.ref, e.info & 0x7f)) return false;
+    } else {
+      if (!visitor.leaf(e.ref, e.info)) return false;
+    }
+  }
+  return true;
 }
 
 const AccelStats& Accel::stats() const { return impl_->stats; }

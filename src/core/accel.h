@@ -44,6 +44,30 @@ class Accel {
   // Any hit in [ray.tmin, ray.tmax] (early exit): for shadow rays.
   bool occluded(const Ray& ray) const;
 
+  // Visits every leaf whose box may meet the cone with apex ray.org, axis ray.dir (unit) and
+  // half-angle tangent tan_half, over t in [0, ray.tmax] (soft shadows). Boxes are grown by the
+  // cone's radius at their far end, so no primitive inside the cone is missed. The visitor
+  // receives primitive ids [first, first + count) (triangles below num_triangles, then spheres)
+  // and returns false to stop early. Returns false when stopped.
+  class ConeVisitor {
+   public:
+    virtual bool leaf(uint32_t first, uint32_t count) = 0;
+
+   protected:
+    ~ConeVisitor() = default;
+  };
+  bool visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) const;
+
+  // Cut-out surfaces: when set, a candidate hit on a primitive for which masked(prim) is true is
+  // kept only if opaque(ctx, prim, ray, t, u, v) says so (alpha textures). Empty: no test at all.
+  struct AlphaTest {
+    const void* ctx = nullptr;
+    const uint8_t* masked_material = nullptr;  // one flag per material id
+    bool (*opaque)(const void* ctx, uint32_t prim, const Ray& ray, float t, float u, float v) =
+        nullptr;
+  };
+  void set_alpha_test(const AlphaTest& test);
+
   const AccelStats& stats() const;
 
  private:

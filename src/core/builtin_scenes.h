@@ -1,9 +1,12 @@
 // Built-in scenes that need no files, and the animated state of Parker's bouncing balls;
 // loading thread (pure functions).
 #pragma once
+#include <memory>
 #include <vector>
 
+#include "core/error.h"
 #include "core/geometry.h"
+#include "core/scene.h"
 
 namespace frameless {
 
@@ -15,6 +18,9 @@ std::vector<Sphere> bouncing_balls_at(double t);
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
 // Path of the Stanford bunny shipped by Debian's glmark2-data.
+// The textured showcase scene (builtin_showcase.cpp), not yet finalized.
+Result<std::unique_ptr<Scene>> make_showcase();
+
 inline constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
 
 }  // namespace frameless

@@ -17,8 +17,13 @@ struct Sphere {
 struct Geometry {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;  // per-vertex shading normals: empty, or one per position
+  std::vector<Vec2> uvs;      // per-vertex texture coordinates: empty, or one per position
   std::vector<UVec3> triangles;
   std::vector<uint16_t> triangle_material;
+  // Soft shadows only (empty otherwise): for edge k of each triangle (vertices k, k+1), the
+  // vertex of the neighbour across it that is not on the edge, or kInvalidId on an open or
+  // non-manifold edge. Neighbours are found by vertex position, so split vertices still join.
+  std::vector<UVec3> triangle_opposite;
   std::vector<Sphere> spheres;
   std::vector<uint16_t> sphere_material;
 

@@ -9,14 +9,13 @@ namespace frameless {
 
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
                           uint64_t rng_seed) {
-  // Shading is deterministic today (hard shadows); the seed is kept for soft shadows later.
-  (void)rng_seed;
   const Ray ray = camera_ray(camera, px, py);
   SampleResult out;
   Hit hit;
   SurfacePoint sp;
   // The shading path is chosen once per sample from the scene's features and skips.
-  out.color = trace_radiance_path(scene, shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp);
+  out.color = trace_radiance_path(scene, shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp,
+                                  rng_seed);
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;

@@ -32,6 +32,12 @@ struct RenderSettings {
   Vec3 background{0.0f};               // radiance of rays that escape
   uint64_t seed = 1;                   // global seed mixed into every sample
   SkipConfig skips;                    // which specialisations may be used (ablation switches)
+  // Shadows: mode for lights with an extent (lights without one always cast hard shadows),
+  // rays per light in area mode, and whether dielectrics attenuate shadow rays instead of
+  // blocking them (transmittance k_t and Beer's law through each dielectric crossed).
+  ShadowMode shadows = ShadowMode::kSoft;
+  int shadow_samples = 16;
+  bool transparent_shadows = false;
 };
 
 // What the scene needs, found at finalize time so the per-sample path skips the rest.
@@ -45,15 +51,17 @@ struct SceneFeatures {
   bool has_vertex_normals = false;
   bool has_absorption = false;  // some dielectric with extinction > 0 (Beer's law along the ray)
   bool has_ambient = false;     // ambient kind other than none
-  // Always false: materials have no textures, so no path computes texture coordinates (the hit's
-  // barycentrics only rebuild the hit point). Kept so the analysis states it.
-  bool has_textures = false;
+  bool has_textures = false;     // some material has a texture slot: hits compute UVs
+  bool has_cutouts = false;      // some material has an alpha cut-out: traversal tests alpha
+  bool has_soft_lights = false;  // some light has an extent and shadows are soft or area
 };
 
 struct Scene {
   std::string name;
   Geometry geometry;
   std::vector<Material> materials;  // geometry material ids index this
+  std::vector<Texture> textures;    // material texture slots index this
+  std::vector<uint8_t> cutout_materials;  // per material: has an alpha cut-out (accel reads it)
   std::vector<Light> lights;
   Ambient ambient;
   Camera camera;
@@ -64,6 +72,10 @@ struct Scene {
 
 // Builds the acceleration structure and analyses features. Call once after loading.
 void finalize_scene(Scene& scene, const AccelConfig& config = {});
+
+// Changes the shadow settings of a finalized scene (command-line overrides): re-analyses its
+// features and builds the edge adjacency soft shadows need, without rebuilding the BVH.
+void set_shadow_settings(Scene& scene, ShadowMode mode, int samples, bool transparent);
 
 // Bounding box of all geometry (for framing cameras); returns false when empty.
 bool scene_bounds(const Geometry& geom, Vec3& lo, Vec3& hi);

@@ -21,7 +21,12 @@ SceneFeatures analyse_scene(const Scene& scene) {
     f.has_highlights |= m.cls != MaterialClass::kDiffuse && glm::dot(m.kh, m.kh) > 0.0f;
     f.has_highlights |= m.cls == MaterialClass::kMetal && glm::dot(m.ks, m.ks) > 0.0f;
   }
-  f.has_textures = false;
+  for (const Material& m : scene.materials) {
+    f.has_textures |= m.textured();
+    f.has_cutouts |= m.cutout();
+  }
+  const bool extended = scene.settings.shadows != ShadowMode::kHard;
+  for (const Light& l : scene.lights) f.has_soft_lights |= extended && l.has_extent();
   return f;
 }
 
@@ -65,7 +70,7 @@ bool apply_scene_variant(Scene& scene, const std::string& variant) {
 void translate_scene(Scene& scene, const Vec3& offset) {
   for (Vec3& p : scene.geometry.positions) p += offset;
   for (Sphere& s : scene.geometry.spheres) s.center += offset;
-  for (Light& l : scene.lights) l.position += offset;
+  for (Light& l : scene.lights) l.position += offset;  // directional lights have no position
   scene.camera.eye += offset;
   scene.camera.look += offset;
   finalize_scene(scene);

@@ -38,10 +38,14 @@ uint16_t add_material(Scene& scene, const Material& m) {
 }
 
 // Gives triangles [first, end) their own vertices carrying the face normal, so that flat
-// geometry keeps flat shading in a scene where other meshes bring vertex normals.
+// geometry keeps flat shading in a scene where other meshes bring vertex normals. UVs, when the
+// scene has them, follow their vertices.
 static void append_flat_normals(Geometry& g, size_t first) {
   std::vector<Vec3> pos = std::move(g.positions);
-  g.positions.assign(pos.begin(), pos.begin() + std::ptrdiff_t(g.normals.size()));
+  std::vector<Vec2> uv = std::move(g.uvs);
+  const auto kept = std::ptrdiff_t(g.normals.size());
+  g.positions.assign(pos.begin(), pos.begin() + kept);
+  if (!uv.empty()) g.uvs.assign(uv.begin(), uv.begin() + kept);
   for (size_t i = first; i < g.triangles.size(); ++i) {
     const UVec3 t = g.triangles[i];
     Vec3 n = glm::cross(pos[t.y] - pos[t.x], pos[t.z] - pos[t.x]);
@@ -51,29 +55,57 @@ static void append_flat_normals(Geometry& g, size_t first) {
     for (int k = 0; k < 3; ++k) {
       g.positions.push_back(pos[t[k]]);
       g.normals.push_back(n);
+      if (!uv.empty()) g.uvs.push_back(uv[t[k]]);
     }
     g.triangles[i] = UVec3(b, b + 1, b + 2);
   }
 }
 
-void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material) {
+void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material,
+              bool override_material) {
   Geometry& g = scene.geometry;
   const glm::mat3 nm = glm::inverseTranspose(glm::mat3(m));
   const bool mirrored = glm::determinant(glm::mat3(m)) < 0.0f;
   const bool has_normals = !mesh.normals.empty() && mesh.normals.size() == mesh.positions.size();
-  // Vertex normals are all-or-nothing per scene (one per position, or none).
+  const bool has_uvs = !mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size();
+  // Vertex normals and uvs are all-or-nothing per scene (one per position, or none): earlier
+  // geometry gets flat normals and zero uvs when the first mesh that has them arrives.
+  if (has_uvs && g.uvs.empty()) g.uvs.assign(g.positions.size(), Vec2(0.0f));
   if (has_normals && g.normals.empty() && !g.triangles.empty()) append_flat_normals(g, 0);
   const bool scene_normals = !g.normals.empty() || has_normals;
   const uint32_t base = uint32_t(g.positions.size());
   const size_t first_tri = g.triangles.size();
   g.positions.reserve(g.positions.size() + mesh.positions.size());
   for (const Vec3& p : mesh.positions) g.positions.push_back(Vec3(m * Vec4(p, 1.0f)));
+  if (has_uvs) g.uvs.insert(g.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+  else if (!g.uvs.empty()) g.uvs.resize(g.positions.size(), Vec2(0.0f));
   g.triangles.reserve(g.triangles.size() + mesh.triangles.size());
   for (const UVec3& t : mesh.triangles) {
     const UVec3 s = t + UVec3(base);
     g.triangles.push_back(mirrored ? UVec3(s.x, s.z, s.y) : s);
   }
-  g.triangle_material.resize(g.triangles.size(), material);
+  if (mesh.materials.empty() || override_material) {
+    g.triangle_material.resize(g.triangles.size(), material);
+  } else {
+    // The mesh's own materials, their texture slots moved past the scene's textures.
+    const uint32_t tex_base = uint32_t(scene.textures.size());
+    scene.textures.insert(scene.textures.end(), mesh.textures.begin(), mesh.textures.end());
+    const size_t mat_base = scene.materials.size();
+    for (Material mm : mesh.materials) {
+      for (uint32_t* slot : {&mm.kd_tex, &mm.kh_tex, &mm.ks_tex, &mm.alpha_tex, &mm.normal_tex,
+                             &mm.bump_tex})
+        if (*slot != kNoTexture) *slot += tex_base;
+      scene.materials.push_back(std::move(mm));
+    }
+    const bool per_face = mesh.face_material.size() == mesh.triangles.size();
+    g.triangle_material.reserve(g.triangles.size());
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+      size_t fm = per_face ? mesh.face_material[i] : 0;
+      if (fm >= mesh.materials.size()) fm = 0;
+      // Ids are 16-bit; past 65535 materials the last id still names a valid one.
+      g.triangle_material.push_back(uint16_t(std::min<size_t>(mat_base + fm, 0xffff)));
+    }
+  }
   if (has_normals) {
     g.normals.reserve(g.positions.size());
     for (const Vec3& n : mesh.normals) {
@@ -92,23 +124,33 @@ void add_quad(Scene& scene, const Vec3& center, const Vec3& normal, float size, 
   const Vec3 a = glm::normalize(glm::cross(helper, n)) * (0.5f * size);
   const Vec3 b = glm::cross(n, glm::normalize(a)) * (0.5f * size);
   MeshData q;
-  // a x b is along n, so counter-clockwise (a, b) order faces along n.
+  // a x b is along n, so counter-clockwise (a, b) order faces along n; u runs along a, v along b.
   q.positions = {center - a - b, center + a - b, center + a + b, center - a + b};
+  q.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
   q.triangles = {UVec3(0, 1, 2), UVec3(0, 2, 3)};
   add_mesh(scene, q, glm::mat4(1.0f), material);
 }
 
 void add_box(Scene& scene, const Vec3& lo, const Vec3& hi, uint16_t material) {
   MeshData b;
-  for (int i = 0; i < 8; ++i)
-    b.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
-  // Each face counter-clockwise seen from outside.
-  b.triangles = {{0, 4, 6}, {0, 6, 2},   // -x
-                 {1, 3, 7}, {1, 7, 5},   // +x
-                 {0, 1, 5}, {0, 5, 4},   // -y
-                 {2, 6, 7}, {2, 7, 3},   // +y
-                 {0, 2, 3}, {0, 3, 1},   // -z
-                 {4, 5, 7}, {4, 7, 6}};  // +z
+  auto corner = [&](int i) {
+    return Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  };
+  // Each face's corners counter-clockwise seen from outside, starting bottom-left as seen from
+  // outside (sides upright, the top with v towards -z), so uv 0..1 spans every face.
+  const int faces[6][4] = {{0, 4, 6, 2},   // -x
+                           {5, 1, 3, 7},   // +x
+                           {0, 1, 5, 4},   // -y
+                           {6, 7, 3, 2},   // +y
+                           {1, 0, 2, 3},   // -z
+                           {4, 5, 7, 6}};  // +z
+  for (const auto& f : faces) {
+    const uint32_t v = uint32_t(b.positions.size());
+    for (int k = 0; k < 4; ++k) b.positions.push_back(corner(f[k]));
+    b.uvs.insert(b.uvs.end(), {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)});
+    b.triangles.push_back(UVec3(v, v + 1, v + 2));
+    b.triangles.push_back(UVec3(v, v + 2, v + 3));
+  }
   add_mesh(scene, b, glm::mat4(1.0f), material);
 }
 
@@ -144,11 +186,15 @@ Ambient default_hemisphere_ambient() {
 std::unique_ptr<Scene> make_mesh_scene(MeshData mesh, const std::string& name) {
   auto scene = std::make_unique<Scene>();
   scene->name = name;
-  Material m;
-  m.name = "default";
-  m.cls = MaterialClass::kDiffuse;
-  m.kd = Vec3(0.75f, 0.72f, 0.68f);
-  add_mesh(*scene, mesh, glm::mat4(1.0f), add_material(*scene, m));
+  if (mesh.materials.empty()) {
+    Material m;
+    m.name = "default";
+    m.cls = MaterialClass::kDiffuse;
+    m.kd = Vec3(0.75f, 0.72f, 0.68f);
+    add_mesh(*scene, mesh, glm::mat4(1.0f), add_material(*scene, m));
+  } else {
+    add_mesh(*scene, mesh, glm::mat4(1.0f), 0);  // the file's own materials
+  }
   Vec3 lo, hi;
   scene_bounds(scene->geometry, lo, hi);
   const Vec3 c = 0.5f * (lo + hi);

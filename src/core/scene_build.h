@@ -21,13 +21,18 @@ std::string file_extension(const std::string& path);
 uint16_t add_material(Scene& scene, const Material& m);
 
 // Appends a mesh transformed by m: positions by m, normals by the inverse transpose, and the
-// winding flipped when m mirrors, so that geometric normals keep pointing outward.
-void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material);
+// winding flipped when m mirrors, so that geometric normals keep pointing outward. UVs are
+// kept (scene uvs stay empty or one per position: zeros for geometry without). A mesh that
+// carries materials brings them and its textures into the scene and `material` is ignored,
+// unless override_material asks for `material` on every face.
+void add_mesh(Scene& scene, const MeshData& mesh, const glm::mat4& m, uint16_t material,
+              bool override_material = false);
 
-// Finite quad: centre, unit normal, side length (square), oriented to face along normal.
+// Finite quad: centre, unit normal, side length (square), oriented to face along normal; uv
+// 0..1 across the square.
 void add_quad(Scene& scene, const Vec3& center, const Vec3& normal, float size, uint16_t material);
 
-// Axis-aligned box as 12 triangles with outward normals.
+// Axis-aligned box as 12 triangles with outward normals; 4 vertices per face, uv 0..1 on each.
 void add_box(Scene& scene, const Vec3& lo, const Vec3& hi, uint16_t material);
 
 void add_sphere(Scene& scene, const Vec3& center, float radius, uint16_t material);
@@ -35,7 +40,8 @@ void add_sphere(Scene& scene, const Vec3& center, float radius, uint16_t materia
 // A camera that frames the box [lo, hi] from the front-right-above, for a width x height image.
 Camera frame_camera(const Vec3& lo, const Vec3& hi, int width, int height);
 
-// Mesh shown alone: default material, one light over it, hemisphere ambient, framing camera.
+// Mesh shown alone: its own materials or a default one, one light over it, hemisphere ambient,
+// framing camera.
 std::unique_ptr<Scene> make_mesh_scene(MeshData mesh, const std::string& name);
 
 // Hemisphere ambient used by the mesh viewer and the built-ins: cool sky above, warm ground below.

@@ -1,7 +1,10 @@
 // Scene input entry points: dispatch a scene spec to the built-ins, the JSON reader or the mesh
-// readers; loading thread only.
+// and model readers; loading thread only.
 #include "core/scene_io.h"
 
+#include <cstdio>
+
+#include "core/mesh_obj.h"
 #include "core/scene_build.h"
 
 namespace frameless {
@@ -26,12 +29,30 @@ Result<std::unique_ptr<Scene>> load_scene_json(const std::string& path) {
 Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
   const std::string ext = file_extension(spec);
   if (ext == ".json") return load_scene_json(spec);
+  const size_t slash = spec.find_last_of('/');
+  const std::string name = slash == std::string::npos ? spec : spec.substr(slash + 1);
   if (ext == ".obj" || ext == ".ply") {
-    auto mesh = load_mesh(spec);
+    // An OBJ that names MTL libraries keeps its materials and textures; others get the default.
+    ImageCache images;
+    auto bytes = read_file_bytes(spec);
+    if (!bytes) return bytes.error();
+    auto mesh = ext == ".obj" ? parse_obj_with_materials(*bytes, spec, images)
+                              : parse_ply(*bytes, spec);
     if (!mesh) return mesh.error();
-    const size_t slash = spec.find_last_of('/');
-    auto scene = make_mesh_scene(std::move(*mesh),
-                                 slash == std::string::npos ? spec : spec.substr(slash + 1));
+    auto scene = make_mesh_scene(std::move(*mesh), name);
+    finalize_scene(*scene);
+    return scene;
+  }
+  if (ext == ".gltf" || ext == ".glb") {
+    ImageCache images;
+    auto model = load_gltf(spec, images);
+    if (!model) return model.error();
+    for (const std::string& w : model->warnings) std::fprintf(stderr, "frameless: %s\n", w.c_str());
+    auto scene = make_mesh_scene(std::move(model->mesh), name);
+    // The model's first camera and its lights replace the framing camera and default light.
+    if (!model->cameras.empty() && camera_is_valid(model->cameras.front()))
+      scene->camera = model->cameras.front();
+    if (!model->lights.empty()) scene->lights = std::move(model->lights);
     finalize_scene(*scene);
     return scene;
   }

@@ -8,94 +8,58 @@
 
 #include "core/scene_build.h"
 #include "core/scene_io.h"
+#include "core/scene_json_materials.h"
 
 namespace frameless {
-namespace {
+namespace scene_json {
 
-// ordered_json keeps materials (and so material ids) in file order.
-using json = nlohmann::ordered_json;
-
-constexpr int kMaxImageSide = 16384;
-
-// Thrown inside this file only, caught by parse_scene_json and turned into an Error.
-struct Failure {
-  std::string field;
-  std::string what;
-};
-
-[[noreturn]] void fail(const std::string& field, const std::string& what) { throw Failure{field, what}; }
-
-std::string type_name(const json& j) { return j.type_name(); }
-
-const json& require_object(const json& j, const std::string& field) {
-  if (!j.is_object()) fail(field, "expected an object, got " + type_name(j));
-  return j;
-}
-
-// Rejects keys not in `allowed`: catches typos such as "radus".
-void check_keys(const json& j, const std::string& field, std::initializer_list<const char*> allowed) {
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    bool ok = false;
-    for (const char* a : allowed) ok |= it.key() == a;
-    if (!ok) {
-      std::string list;
-      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-      fail(field.empty() ? it.key() : field + "." + it.key(), "unknown key (expected one of: " + list + ")");
-    }
+glm::mat4 parse_transform(const json& j, const std::string& f) {
+  if (j.is_array()) {
+    // 16 numbers, row-major (the matrix as written on paper).
+    if (j.size() != 16) fail(f, "a matrix needs 16 numbers (row-major 4x4)");
+    glm::mat4 m;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        m[c][r] = float(get_number(j[size_t(r * 4 + c)], f + "[" + std::to_string(r * 4 + c) + "]"));
+    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+      fail(f, "last row must be 0 0 0 1 (affine transforms only)");
+    if (std::fabs(glm::determinant(glm::mat3(m))) < 1e-30f) fail(f, "matrix is singular");
+    return m;
   }
+  require_object(j, f);
+  check_keys(j, f, {"translate", "rotate", "scale"});
+  glm::mat4 m(1.0f);
+  // Applied to points as scale, then rotate, then translate: M = T R S.
+  if (j.contains("translate")) m = glm::translate(m, get_vec3(j["translate"], f + ".translate"));
+  if (j.contains("rotate")) {
+    const json& r = j["rotate"];
+    const json list = r.is_array() ? r : json::array({r});
+    glm::mat4 rot(1.0f);
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string rf = r.is_array() ? f + ".rotate[" + std::to_string(i) + "]" : f + ".rotate";
+      require_object(list[i], rf);
+      check_keys(list[i], rf, {"axis", "degrees"});
+      if (!list[i].contains("axis")) fail(rf + ".axis", "missing");
+      if (!list[i].contains("degrees")) fail(rf + ".degrees", "missing");
+      const Vec3 axis = get_unit(list[i]["axis"], rf + ".axis");
+      // Left-multiplied so that the rotations apply to points in the order written.
+      rot = glm::rotate(glm::mat4(1.0f), glm::radians(float(get_number(list[i]["degrees"], rf + ".degrees"))), axis) * rot;
+    }
+    m = m * rot;
+  }
+  if (j.contains("scale")) {
+    const json& s = j["scale"];
+    const Vec3 v = s.is_number() ? Vec3(float(get_number(s, f + ".scale"))) : get_vec3(s, f + ".scale");
+    if (v.x == 0.0f || v.y == 0.0f || v.z == 0.0f) fail(f + ".scale", "must be non-zero");
+    m = glm::scale(m, v);
+  }
+  return m;
 }
 
-std::string sub(const std::string& field, const char* key) {
-  return field.empty() ? std::string(key) : field + "." + key;
-}
+}  // namespace scene_json
 
-double get_number(const json& j, const std::string& field) {
-  if (!j.is_number()) fail(field, "expected a number, got " + type_name(j));
-  const double v = j.get<double>();
-  if (!std::isfinite(v) || std::fabs(v) > 3.0e38) fail(field, "number is not finite");
-  return v;
-}
-
-float get_float(const json& j, const std::string& field, double lo, double hi, const char* range) {
-  const double v = get_number(j, field);
-  if (v < lo || v > hi) fail(field, std::string("must be ") + range + " (got " + j.dump() + ")");
-  return float(v);
-}
-
-int64_t get_int(const json& j, const std::string& field, int64_t lo, int64_t hi) {
-  if (!j.is_number_integer()) fail(field, "expected an integer, got " + (j.is_number() ? j.dump() : type_name(j)));
-  if (j.is_number_unsigned() && j.get<uint64_t>() > uint64_t(INT64_MAX))
-    fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + j.dump() + ")");
-  const int64_t v = j.get<int64_t>();
-  if (v < lo || v > hi)
-    fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + j.dump() + ")");
-  return v;
-}
-
-Vec3 get_vec3(const json& j, const std::string& field) {
-  if (!j.is_array() || j.size() != 3) fail(field, "expected an array of 3 numbers");
-  return Vec3(float(get_number(j[0], field + "[0]")), float(get_number(j[1], field + "[1]")),
-              float(get_number(j[2], field + "[2]")));
-}
-
-// A colour: [r, g, b] or one grey number; each component >= 0.
-Vec3 get_color(const json& j, const std::string& field) {
-  const Vec3 c = j.is_number() ? Vec3(float(get_number(j, field))) : get_vec3(j, field);
-  if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) fail(field, "colour components must be >= 0");
-  return c;
-}
-
-Vec3 get_unit(const json& j, const std::string& field) {
-  const Vec3 v = get_vec3(j, field);
-  const float len = glm::length(v);
-  if (!(len > 1e-20f) || !std::isfinite(len)) fail(field, "must be a non-zero vector");
-  return v / len;
-}
-
-std::string get_string(const json& j, const std::string& field) {
-  if (!j.is_string()) fail(field, "expected a string, got " + type_name(j));
-  return j.get<std::string>();
-}
+namespace {
+using namespace scene_json;
 
 void parse_camera(const json& j, Scene& s) {
   require_object(j, "camera");
@@ -110,7 +74,19 @@ void parse_camera(const json& j, Scene& s) {
 
 void parse_settings(const json& j, RenderSettings& r) {
   require_object(j, "settings");
-  check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background", "seed"});
+  check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background",
+                             "seed", "shadows", "shadow_samples", "transparent_shadows"});
+  if (j.contains("shadows")) {
+    const std::string m = get_string(j["shadows"], "settings.shadows");
+    if (m == "soft") r.shadows = ShadowMode::kSoft;
+    else if (m == "hard") r.shadows = ShadowMode::kHard;
+    else if (m == "area") r.shadows = ShadowMode::kArea;
+    else fail("settings.shadows", "unknown mode '" + m + "' (soft, hard or area)");
+  }
+  if (j.contains("shadow_samples"))
+    r.shadow_samples = int(get_int(j["shadow_samples"], "settings.shadow_samples", 1, 4096));
+  if (j.contains("transparent_shadows"))
+    r.transparent_shadows = get_bool(j["transparent_shadows"], "settings.transparent_shadows");
   if (j.contains("width")) r.width = int(get_int(j["width"], "settings.width", 1, kMaxImageSide));
   if (j.contains("height")) r.height = int(get_int(j["height"], "settings.height", 1, kMaxImageSide));
   if (j.contains("spp")) r.spp = int(get_int(j["spp"], "settings.spp", 1, 1 << 20));
@@ -162,8 +138,19 @@ void parse_lights(const json& j, Scene& s) {
       const double r = get_number(l["radius"], f + ".radius");
       if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + l["radius"].dump() + ")");
       light.radius = float(r);
+    } else if (type == "directional") {
+      // A sun: light travels along `direction`; angular_radius (degrees) > 0 softens shadows.
+      check_keys(l, f, {"type", "direction", "color", "angular_radius"});
+      light.kind = LightKind::kDirectional;
+      light.direction = get_unit(need(l, f, "direction"), f + ".direction");
+      if (l.contains("angular_radius"))
+        light.angular_radius = glm::radians(
+            get_float(l["angular_radius"], f + ".angular_radius", 0.0, 45.0, "in [0, 45] degrees"));
+      if (l.contains("color")) light.color = get_color(l["color"], f + ".color");
+      s.lights.push_back(light);
+      continue;
     } else {
-      fail(f + ".type", "unknown light '" + type + "' (point or spherical)");
+      fail(f + ".type", "unknown light '" + type + "' (point, spherical or directional)");
     }
     if (!l.contains("position")) fail(f + ".position", "missing");
     light.position = get_vec3(l["position"], f + ".position");
@@ -172,94 +159,12 @@ void parse_lights(const json& j, Scene& s) {
   }
 }
 
-Material parse_material(const std::string& name, const json& j, const std::string& f) {
-  require_object(j, f);
-  if (!j.contains("class")) fail(f + ".class", "missing (diffuse, metal, dielectric or polished)");
-  const std::string cls = get_string(j["class"], f + ".class");
-  Material m;
-  m.name = name;
-  if (cls == "diffuse") {
-    m.cls = MaterialClass::kDiffuse;
-    check_keys(j, f, {"class", "kd"});
-  } else if (cls == "metal") {
-    m.cls = MaterialClass::kMetal;
-    check_keys(j, f, {"class", "ks", "phong_exponent"});
-    m.kd = Vec3(0.0f);
-    m.ks = Vec3(0.9f);
-  } else if (cls == "dielectric") {
-    m.cls = MaterialClass::kDielectric;
-    check_keys(j, f, {"class", "ior", "extinction", "kh", "phong_exponent"});
-    m.kd = Vec3(0.0f);
-    m.kh = Vec3(1.0f);
-  } else if (cls == "polished") {
-    m.cls = MaterialClass::kPolished;
-    check_keys(j, f, {"class", "kd", "r0", "kh", "phong_exponent"});
-    m.kh = Vec3(1.0f);
-  } else {
-    fail(f + ".class", "unknown class '" + cls + "' (diffuse, metal, dielectric or polished)");
-  }
-  if (j.contains("kd")) m.kd = get_color(j["kd"], f + ".kd");
-  if (j.contains("ks")) m.ks = get_color(j["ks"], f + ".ks");
-  if (j.contains("kh")) m.kh = get_color(j["kh"], f + ".kh");
-  if (j.contains("phong_exponent"))
-    m.phong_exponent = get_float(j["phong_exponent"], f + ".phong_exponent", 0.0, 1e6, "in [0, 1e6]");
-  if (j.contains("ior")) m.ior = get_float(j["ior"], f + ".ior", 1e-3, 100.0, "in (0, 100]");
-  if (j.contains("extinction")) m.extinction = get_color(j["extinction"], f + ".extinction");
-  if (j.contains("r0")) {
-    m.r0 = get_color(j["r0"], f + ".r0");
-    if (m.r0.x > 1.0f || m.r0.y > 1.0f || m.r0.z > 1.0f) fail(f + ".r0", "must be in [0, 1]");
-  }
-  if (m.cls == MaterialClass::kMetal) m.kh = m.ks;  // metal: k_h = k_s (section 3.1)
-  return m;
-}
-
-glm::mat4 parse_transform(const json& j, const std::string& f) {
-  if (j.is_array()) {
-    // 16 numbers, row-major (the matrix as written on paper).
-    if (j.size() != 16) fail(f, "a matrix needs 16 numbers (row-major 4x4)");
-    glm::mat4 m;
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c)
-        m[c][r] = float(get_number(j[size_t(r * 4 + c)], f + "[" + std::to_string(r * 4 + c) + "]"));
-    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
-      fail(f, "last row must be 0 0 0 1 (affine transforms only)");
-    if (std::fabs(glm::determinant(glm::mat3(m))) < 1e-30f) fail(f, "matrix is singular");
-    return m;
-  }
-  require_object(j, f);
-  check_keys(j, f, {"translate", "rotate", "scale"});
-  glm::mat4 m(1.0f);
-  // Applied to points as scale, then rotate, then translate: M = T R S.
-  if (j.contains("translate")) m = glm::translate(m, get_vec3(j["translate"], f + ".translate"));
-  if (j.contains("rotate")) {
-    const json& r = j["rotate"];
-    const json list = r.is_array() ? r : json::array({r});
-    glm::mat4 rot(1.0f);
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string rf = r.is_array() ? f + ".rotate[" + std::to_string(i) + "]" : f + ".rotate";
-      require_object(list[i], rf);
-      check_keys(list[i], rf, {"axis", "degrees"});
-      if (!list[i].contains("axis")) fail(rf + ".axis", "missing");
-      if (!list[i].contains("degrees")) fail(rf + ".degrees", "missing");
-      const Vec3 axis = get_unit(list[i]["axis"], rf + ".axis");
-      // Left-multiplied so that the rotations apply to points in the order written.
-      rot = glm::rotate(glm::mat4(1.0f), glm::radians(float(get_number(list[i]["degrees"], rf + ".degrees"))), axis) * rot;
-    }
-    m = m * rot;
-  }
-  if (j.contains("scale")) {
-    const json& s = j["scale"];
-    const Vec3 v = s.is_number() ? Vec3(float(get_number(s, f + ".scale"))) : get_vec3(s, f + ".scale");
-    if (v.x == 0.0f || v.y == 0.0f || v.z == 0.0f) fail(f + ".scale", "must be non-zero");
-    m = glm::scale(m, v);
-  }
-  return m;
-}
-
 struct Context {
   Scene& scene;
   std::map<std::string, uint16_t> materials;
   std::string base_dir;
+  TextureNames textures;
+  ImageCache images;
 };
 
 uint16_t object_material(const json& o, const std::string& f, const Context& ctx) {
@@ -270,17 +175,12 @@ uint16_t object_material(const json& o, const std::string& f, const Context& ctx
   return it->second;
 }
 
-const json& need(const json& o, const std::string& f, const char* key) {
-  if (!o.contains(key)) fail(sub(f, key), "missing");
-  return o[key];
-}
-
 void check_mesh_size(const Scene& s, size_t more, const std::string& f) {
   if (s.geometry.positions.size() + more > size_t(0xfffffff0u)) fail(f, "scene has too many vertices");
 }
 
 void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t mat) {
-  check_keys(o, f, {"type", "vertices", "normals", "indices", "material", "transform"});
+  check_keys(o, f, {"type", "vertices", "normals", "uvs", "indices", "material", "transform"});
   MeshData mesh;
   const json& v = need(o, f, "vertices");
   if (!v.is_array()) fail(f + ".vertices", "expected an array of [x, y, z]");
@@ -290,6 +190,15 @@ void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t
     const json& n = o["normals"];
     if (!n.is_array() || n.size() != v.size()) fail(f + ".normals", "expected one [x, y, z] per vertex");
     for (size_t i = 0; i < n.size(); ++i) mesh.normals.push_back(get_unit(n[i], f + ".normals[" + std::to_string(i) + "]"));
+  }
+  if (o.contains("uvs")) {
+    const json& t = o["uvs"];
+    if (!t.is_array() || t.size() != v.size()) fail(f + ".uvs", "expected one [u, v] per vertex");
+    for (size_t i = 0; i < t.size(); ++i) {
+      const std::string uf = f + ".uvs[" + std::to_string(i) + "]";
+      if (!t[i].is_array() || t[i].size() != 2) fail(uf, "expected [u, v]");
+      mesh.uvs.push_back(Vec2(float(get_number(t[i][0], uf + "[0]")), float(get_number(t[i][1], uf + "[1]"))));
+    }
   }
   const json& ix = need(o, f, "indices");
   if (!ix.is_array()) fail(f + ".indices", "expected an array of [i, j, k]");
@@ -320,15 +229,18 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + o["radius"].dump() + ")");
     add_sphere(s, c, float(r), object_material(o, f, ctx));
   } else if (type == "mesh") {
+    // OBJ (with its MTL materials when it names one), PLY, glTF or GLB; "material" overrides
+    // the file's own materials and is required when the file has none.
     check_keys(o, f, {"type", "file", "transform", "material"});
     const std::string file = get_string(need(o, f, "file"), f + ".file");
-    const uint16_t mat = object_material(o, f, ctx);
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
     const std::string full = !file.empty() && file[0] == '/' ? file : ctx.base_dir + "/" + file;
-    auto mesh = load_mesh(full);
+    auto mesh = load_model_mesh(full, ctx.images);
     if (!mesh) fail(f + ".file", mesh.error().message);
     check_mesh_size(s, mesh->positions.size(), f + ".file");
-    add_mesh(s, *mesh, m, mat);
+    const bool override_material = o.contains("material") || mesh->materials.empty();
+    const uint16_t mat = override_material ? object_material(o, f, ctx) : 0;
+    add_mesh(s, *mesh, m, mat, override_material);
   } else if (type == "triangles") {
     parse_triangles(o, f, ctx, object_material(o, f, ctx));
   } else if (type == "plane") {
@@ -352,17 +264,18 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
 void parse_scene(const json& root, Context& ctx) {
   Scene& s = ctx.scene;
   require_object(root, "(top level)");
-  check_keys(root, "", {"camera", "settings", "ambient", "lights", "materials", "objects"});
+  check_keys(root, "", {"camera", "settings", "ambient", "lights", "textures", "materials", "objects"});
   if (root.contains("settings")) parse_settings(root["settings"], s.settings);
   s.ambient = default_hemisphere_ambient();
   if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
   if (root.contains("lights")) parse_lights(root["lights"], s);
+  if (root.contains("textures")) parse_textures(root["textures"], s, ctx.base_dir, ctx.images, ctx.textures);
   if (root.contains("materials")) {
     const json& mats = require_object(root["materials"], "materials");
     if (mats.size() > 65535) fail("materials", "too many materials (at most 65535)");
     for (auto it = mats.begin(); it != mats.end(); ++it) {
       const std::string f = "materials." + it.key();
-      ctx.materials[it.key()] = add_material(s, parse_material(it.key(), it.value(), f));
+      ctx.materials[it.key()] = add_material(s, parse_material(it.key(), it.value(), f, ctx.textures, s));
     }
   }
   if (!root.contains("objects")) fail("objects", "missing (a scene needs at least one object)");
@@ -423,7 +336,7 @@ Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const s
   auto scene = std::make_unique<Scene>();
   const size_t slash = path.find_last_of('/');
   scene->name = slash == std::string::npos ? path : path.substr(slash + 1);
-  Context ctx{*scene, {}, base_dir};
+  Context ctx{*scene, {}, base_dir, {}, {}};
   try {
     parse_scene(root, ctx);
   } catch (const Failure& f) {

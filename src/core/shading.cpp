@@ -21,6 +21,8 @@
 #include <utility>
 
 #include "core/scene_analysis.h"
+#include "core/soft_shadow.h"
+#include "core/texturing.h"
 
 namespace frameless {
 
@@ -45,41 +47,112 @@ struct ShadeContext {
   float min_weight;  // pruning threshold: min_contribution, or 0 with SkipConfig::prune off
   bool any_hit;      // shadow rays by any-hit traversal (SkipConfig::any_hit)
   int max_depth;
+  Rng* rng;          // the sample's own stream (area-sampled shadows)
 };
 
-ShadeContext make_context(const Scene& scene) {
+ShadeContext make_context(const Scene& scene, Rng* rng) {
   const RenderSettings& s = scene.settings;
   return ShadeContext{scene, s.skips.prune ? s.min_contribution : 0.0f, s.skips.any_hit,
-                      s.max_depth};
+                      s.max_depth, rng};
 }
 
-// Calls f(l_e, l, n.l) for each light that faces the surface and is not occluded (s = 1).
-// Hard shadows: one any-hit ray to the light's centre, ending just short of the light.
+// Shadow factor of a light with an extent, or with transparent shadows (cold path: kept out of
+// line so the hard-shadow loop stays small). Returns s (per channel when dielectrics tint it).
+Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& origin,
+                         const Vec3& l, float tmax, float tan_half, float half_angle) {
+  const RenderSettings& st = c.scene.settings;
+  ShadowQuery q;
+  q.org = origin;
+  q.dir = l;
+  q.tmax = tmax;
+  q.tan_half = tan_half;
+  q.half_angle = half_angle;
+  q.skip_dielectrics = st.transparent_shadows;
+  Ray ray;
+  ray.org = origin;
+  ray.dir = l;
+  ray.tmax = tmax;
+  const ShadowMode mode = light.has_extent() ? st.shadows : ShadowMode::kHard;
+  if (mode == ShadowMode::kHard || !(tan_half > 0.0f)) {
+    return shadow_transmittance(c.scene, ray, false);  // only reached with transparent shadows
+  }
+  if (mode == ShadowMode::kSoft) {
+    const float s = soft_visibility(c.scene, q);
+    if (!(s > 0.0f) || !st.transparent_shadows) return Vec3(s);
+    return s * shadow_transmittance(c.scene, ray, true);
+  }
+  Rng fallback(0x9e3779b9u);
+  Rng& rng = c.rng ? *c.rng : fallback;
+  if (!st.transparent_shadows) return Vec3(area_visibility(c.scene, q, st.shadow_samples, rng));
+  // Transparent area shadows: the mean transmittance of the sample rays.
+  Vec3 sum(0.0f);
+  const int n = std::max(1, st.shadow_samples);
+  for (int k = 0; k < n; ++k) {
+    Rng sub(rng.next_u32());
+    // One stratum's direction from the area sampler, then its transmittance.
+    const Vec3 b1 = glm::normalize(glm::cross(l, std::fabs(l.x) > 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
+    const Vec3 b2 = glm::cross(l, b1);
+    const float cos_max = std::cos(half_angle);
+    const float cos_t = 1.0f - (float(k) + sub.next_float()) / float(n) * (1.0f - cos_max);
+    const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
+    const float phi = 2.0f * kPi * sub.next_float();
+    ray.dir = glm::normalize(cos_t * l + sin_t * (std::cos(phi) * b1 + std::sin(phi) * b2));
+    sum += shadow_transmittance(c.scene, ray, false);
+  }
+  return sum / float(n);
+}
+
+// Calls f(s l_e, l, n.l) for each light that faces the surface and is not fully shadowed.
+// Hard shadows: one any-hit ray to the light's centre, ending just short of the light. Lights
+// with an extent use the scene's shadow mode (soft_shadow.h).
 template <class F>
 inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp, F&& f) {
   const Scene& scene = c.scene;
   const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
+  const bool transparent = scene.settings.transparent_shadows;
+  const bool extended_mode = scene.settings.shadows != ShadowMode::kHard;
   for (const Light& light : scene.lights) {
-    const Vec3 to_light = light.position - origin;
-    const float dist = glm::length(to_light);
-    if (!(dist > 0.0f)) continue;
-    const Vec3 l = to_light / dist;
+    Vec3 l;
+    float tmax, tan_half = 0.0f, half_angle = 0.0f;
+    if (light.kind == LightKind::kDirectional) {
+      l = -light.direction;
+      tmax = kInfinity;
+      half_angle = light.angular_radius;
+      tan_half = std::tan(half_angle);
+    } else {
+      const Vec3 to_light = light.position - origin;
+      const float dist = glm::length(to_light);
+      if (!(dist > 0.0f)) continue;
+      l = to_light / dist;
+      // Stop short of the light: its centre, or the surface of a spherical light.
+      tmax = std::max(0.0f, dist - light.radius) * (1.0f - 0x1.0p-12f);
+      if (light.radius > 0.0f && dist > light.radius) {
+        half_angle = std::asin(light.radius / dist);
+        tan_half = light.radius / std::sqrt((dist - light.radius) * (dist + light.radius));
+      }
+    }
     const float nl = glm::dot(sp.ns, l);
     // A light behind the shading or the geometric surface cannot light it (s = 0).
     if (nl <= 0.0f || glm::dot(sp.ng, l) <= 0.0f) continue;
+    if (!(tmax > 0.0f)) {
+      f(light.color, l, nl);
+      continue;
+    }
+    if (transparent || (extended_mode && light.has_extent())) {
+      const Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle);
+      if (max_component(s) > 0.0f) f(light.color * s, l, nl);
+      continue;
+    }
     Ray shadow;
     shadow.org = origin;
     shadow.dir = l;
     shadow.tmin = 0.0f;
-    // Stop short of the light: its centre, or the surface of a spherical light.
-    shadow.tmax = std::max(0.0f, dist - light.radius) * (1.0f - 0x1.0p-12f);
-    if (shadow.tmax > 0.0f) {
-      if (c.any_hit) {
-        if (scene.accel.occluded(shadow)) continue;
-      } else {
-        Hit blocker;  // ablation: closest-hit traversal for the same visibility question
-        if (scene.accel.intersect(shadow, blocker)) continue;
-      }
+    shadow.tmax = tmax;
+    if (c.any_hit) {
+      if (scene.accel.occluded(shadow)) continue;
+    } else {
+      Hit blocker;  // ablation: closest-hit traversal for the same visibility question
+      if (scene.accel.intersect(shadow, blocker)) continue;
     }
     f(light.color, l, nl);
   }
@@ -87,7 +160,7 @@ inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp
 
 template <uint32_t F>
 Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
-                const Vec3& weight, const Material* medium, Hit* first_hit,
+                const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
                 SurfacePoint* first_point);
 
 // Traces a secondary ray when the depth limit and the pruning threshold allow it.
@@ -95,7 +168,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
 template <uint32_t F>
 inline Vec3 trace_child(const ShadeContext& c, const Vec3& start, const Vec3& origin,
                         const Vec3& dir, int depth, const Vec3& child_weight,
-                        const Material* medium) {
+                        const MaterialParams* medium) {
   if (depth >= c.max_depth) return Vec3(0.0f);
   // Zero-weight branches are always pruned, so a threshold of 0 cannot explode the tree.
   const float w = max_component(child_weight);
@@ -116,7 +189,7 @@ inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) {
 }
 
 template <uint32_t F>
-Vec3 shade_diffuse(const ShadeContext& c, const Material& m, const SurfacePoint& sp) {
+Vec3 shade_diffuse(const ShadeContext& c, const MaterialParams& m, const SurfacePoint& sp) {
   // Equation 1 with k_h = k_s = k_t = 0: k_d (l_a + s l_e n.l).
   Vec3 light_sum = ambient_light(c.scene.ambient, sp.ns);
   if constexpr ((F & kShadeLights) != 0)
@@ -125,8 +198,8 @@ Vec3 shade_diffuse(const ShadeContext& c, const Material& m, const SurfacePoint&
 }
 
 template <uint32_t F>
-Vec3 shade_metal(const ShadeContext& c, const Ray& ray, const Material& m, const SurfacePoint& sp,
-                 int depth, const Vec3& weight, const Material* medium) {
+Vec3 shade_metal(const ShadeContext& c, const Ray& ray, const MaterialParams& m, const SurfacePoint& sp,
+                 int depth, const Vec3& weight, const MaterialParams* medium) {
   // Equation 1 with k_d = k_t = 0 and k_h = k_s: s l_e k_s (h.n)^N + k_s L_s.
   const Vec3 e = -ray.dir;
   Vec3 out(0.0f);
@@ -140,9 +213,9 @@ Vec3 shade_metal(const ShadeContext& c, const Ray& ray, const Material& m, const
 }
 
 template <uint32_t F>
-Vec3 shade_dielectric(const ShadeContext& c, const Ray& ray, const Material& m,
+Vec3 shade_dielectric(const ShadeContext& c, const Ray& ray, const MaterialParams& m,
                       const SurfacePoint& sp, int depth, const Vec3& weight,
-                      const Material* medium) {
+                      const MaterialParams* medium) {
   // Equation 1 with k_d = 0, k_s from Schlick, k_t = 1 - k_s, plus a Phong term.
   const Vec3 e = -ray.dir;
   const float cos_i = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
@@ -161,7 +234,7 @@ Vec3 shade_dielectric(const ShadeContext& c, const Ray& ray, const Material& m,
   if (!f.total_internal_reflection) {
     const Vec3 t = eta * ray.dir + (eta * cos_i - f.cos_t) * sp.ns;
     // Leaving returns to air: nested dielectrics are not tracked (one medium at a time).
-    const Material* next = sp.front_face ? &m : nullptr;
+    const MaterialParams* next = sp.front_face ? &m : nullptr;
     out += f.kt * trace_child<F>(c, sp.p, offset_ray_origin(sp.p, -sp.ng, sp.scale), t, depth,
                                  weight * f.kt, next);
   }
@@ -169,9 +242,9 @@ Vec3 shade_dielectric(const ShadeContext& c, const Ray& ray, const Material& m,
 }
 
 template <uint32_t F>
-Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const Material& m,
+Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const MaterialParams& m,
                     const SurfacePoint& sp, int depth, const Vec3& weight,
-                    const Material* medium) {
+                    const MaterialParams* medium) {
   // Equation 2 (coupled model): k_d l_a (1 - k_s(e,n)) + s k_d l_e (1 - (1 - n.e)^5)(1 - (1 -
   // n.l)^5)
   //                            + s k_h l_e (h.n)^N + k_s(e,n) L_s.
@@ -193,9 +266,9 @@ Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const Material& m,
 }
 
 template <uint32_t F>
-Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const SurfacePoint& sp, int depth,
-                        const Vec3& weight, const Material* medium) {
-  const Material& m = c.scene.materials[sp.material];
+Vec3 shade_material(const ShadeContext& c, const Ray& ray, const MaterialParams& m,
+                    const SurfacePoint& sp, int depth, const Vec3& weight,
+                    const MaterialParams* medium) {
   switch (m.cls) {
     case MaterialClass::kDiffuse:
       return shade_diffuse<F>(c, m, sp);
@@ -214,8 +287,21 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const SurfacePoin
 }
 
 template <uint32_t F>
+Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
+                        const SurfacePoint& sp, int depth, const Vec3& weight,
+                        const MaterialParams* medium) {
+  const MaterialParams& base = c.scene.materials[sp.material];
+  // Untextured materials are shaded in place: no texture coordinate is ever computed for them.
+  if (!base.textured()) return shade_material<F>(c, ray, base, sp, depth, weight, medium);
+  MaterialParams m = base;
+  SurfacePoint tsp = sp;
+  apply_textures(c.scene, ray, hit, m, tsp);
+  return shade_material<F>(c, ray, m, tsp, depth, weight, medium);
+}
+
+template <uint32_t F>
 Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
-                const Vec3& weight, const Material* medium, Hit* first_hit,
+                const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
                 SurfacePoint* first_point) {
   const Scene& scene = c.scene;
   Hit hit;
@@ -234,10 +320,10 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
   if (first_point) *first_point = sp;
   if constexpr ((F & kShadeAbsorption) == 0) {
     // No absorbing medium in the scene: light is never attenuated between surfaces.
-    return shade_surface_path<F>(c, ray, sp, depth, weight, medium);
+    return shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium);
   } else {
     if (!medium || max_component(medium->extinction) <= 0.0f)
-      return shade_surface_path<F>(c, ray, sp, depth, weight, medium);
+      return shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium);
     // Light travelling inside a dielectric decays as exp(-kappa t), t the distance between the
     // two surface points (not hit.t, which starts at the offset origin).
     const float t = glm::length(sp.p - start);
@@ -248,13 +334,13 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
     // Prune a branch the medium has already dimmed below the threshold.
     const float wmax = max_component(w);
     if (wmax <= 0.0f || wmax < c.min_weight) return Vec3(0.0f);
-    return attenuation * shade_surface_path<F>(c, ray, sp, depth, w, medium);
+    return attenuation * shade_surface_path<F>(c, ray, hit, sp, depth, w, medium);
   }
 }
 
 // One entry per shading path, indexed by its ShadeBits.
 using TraceFn = Vec3 (*)(const ShadeContext&, const Ray&, const Vec3&, int, const Vec3&,
-                         const Material*, Hit*, SurfacePoint*);
+                         const MaterialParams*, Hit*, SurfacePoint*);
 template <size_t... I>
 constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::index_sequence<I...>) {
   return {&trace_from<uint32_t(I)>...};
@@ -314,7 +400,7 @@ FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0) {
 }
 
 Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
-                    const Material* medium, Hit* first_hit, SurfacePoint* first_point) {
+                    const MaterialParams* medium, Hit* first_hit, SurfacePoint* first_point) {
   // A medium handed in from outside needs the refraction and absorption code.
   const uint32_t path =
       shade_path(scene) | (medium ? kShadeRefraction | kShadeAbsorption : 0u);
@@ -322,9 +408,10 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
 }
 
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
-                         const Vec3& weight, const Material* medium, Hit* first_hit,
-                         SurfacePoint* first_point) {
-  return kTracePaths[path % kShadePaths](make_context(scene), ray, ray.org, depth, weight, medium,
+                         const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
+                         SurfacePoint* first_point, uint64_t rng_seed) {
+  Rng rng(rng_seed);
+  return kTracePaths[path % kShadePaths](make_context(scene, &rng), ray, ray.org, depth, weight, medium,
                                          first_hit, first_point);
 }
 

@@ -34,13 +34,14 @@ FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0);
 // dielectric). depth counts bounces already taken, weight is the ray's accumulated ray-tree weight
 // (for pruning). Returns the radiance; `first_hit` (optional) receives the closest hit.
 Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& weight,
-                    const Material* medium, Hit* first_hit = nullptr,
+                    const MaterialParams* medium, Hit* first_hit = nullptr,
                     SurfacePoint* first_point = nullptr);
 
 // trace_radiance on a given shading path (ShadeBits, core/scene_analysis.h): trace_sample picks
 // the path once per sample. A path must keep every bit the scene needs (shade_path does).
+// rng_seed drives the stochastic choices of the sample (area-sampled shadows).
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
-                         const Vec3& weight, const Material* medium, Hit* first_hit = nullptr,
-                         SurfacePoint* first_point = nullptr);
+                         const Vec3& weight, const MaterialParams* medium, Hit* first_hit = nullptr,
+                         SurfacePoint* first_point = nullptr, uint64_t rng_seed = 0);
 
 }  // namespace frameless

@@ -1,5 +1,7 @@
-// Golden image: the built-in default scene at 96x72, 4 jittered samples per pixel, seed 1,
-// matches tests/data/golden_default.exr (float RGB) within an RMSE of 2e-3 (linear radiance).
+// Golden images: the built-in default scene at 96x72, 4 jittered samples per pixel, seed 1,
+// matches tests/data/golden_default.exr (its default single-sample soft shadows) and, with
+// --shadows hard, golden_default_hard.exr (the image from before soft shadows existed, so the
+// hard-shadow path is unchanged), within an RMSE of 2e-3 (linear radiance).
 // The reference was written by this test with FRAMELESS_UPDATE_GOLDEN=1; regenerate it only for
 // an intended change of the default scene or of the shading, and look at the PNG it writes.
 #include <gtest/gtest.h>
@@ -23,12 +25,13 @@ constexpr int kWidth = 96, kHeight = 72, kSpp = 4;
 // handful of edge pixels; a real shading change moves the RMSE by 1e-2 or more.
 constexpr double kMaxRmse = 2e-3;
 
-std::vector<float> render_default(int& dropped) {
+std::vector<float> render_default(int& dropped, ShadowMode shadows) {
   auto loaded = load_scene("default");
   EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error().message);
   if (!loaded.ok()) return {};
   Scene& scene = *loaded.value();
   scene.settings.seed = 1;
+  set_shadow_settings(scene, shadows, scene.settings.shadow_samples, false);
   const CameraBasis cam = make_camera_basis(scene.camera, kWidth, kHeight);
   std::vector<float> rgb(size_t(kWidth) * kHeight * 3, 0.0f);
   dropped = 0;
@@ -51,18 +54,18 @@ std::vector<float> render_default(int& dropped) {
   return rgb;
 }
 
-TEST(Golden, DefaultSceneMatchesTheReference) {
+void check_golden(ShadowMode shadows, const std::string& name) {
   int dropped = 0;
-  const std::vector<float> rgb = render_default(dropped);
+  const std::vector<float> rgb = render_default(dropped, shadows);
   ASSERT_FALSE(rgb.empty());
   EXPECT_EQ(dropped, 0);
-  const std::string path = std::string(FRAMELESS_TEST_DATA) + "/golden_default.exr";
+  const std::string path = std::string(FRAMELESS_TEST_DATA) + "/" + name + ".exr";
   if (const char* update = std::getenv("FRAMELESS_UPDATE_GOLDEN"); update && *update == '1') {
     const std::vector<ExrChannel> channels = {{"R", false, rgb.data(), 3},
                                               {"G", false, rgb.data() + 1, 3},
                                               {"B", false, rgb.data() + 2, 3}};
     ASSERT_TRUE(write_exr(path, kWidth, kHeight, channels).ok());
-    ASSERT_TRUE(write_png(std::string(FRAMELESS_TEST_DATA) + "/golden_default.png", kWidth, kHeight,
+    ASSERT_TRUE(write_png(std::string(FRAMELESS_TEST_DATA) + "/" + name + ".png", kWidth, kHeight,
                           rgb.data())
                     .ok());
     GTEST_SKIP() << "wrote " << path;
@@ -86,8 +89,14 @@ TEST(Golden, DefaultSceneMatchesTheReference) {
   // The reference is not black (a test against an empty image would prove nothing).
   EXPECT_GT(std::sqrt(ref_energy / (3.0 * kWidth * kHeight)), 0.05);
   EXPECT_LT(rmse, kMaxRmse) << "RMSE against " << path;
-  RecordProperty("rmse", std::to_string(rmse));
-  std::printf("golden RMSE %.3g (limit %.3g)\n", rmse, kMaxRmse);
+  ::testing::Test::RecordProperty("rmse", std::to_string(rmse));
+  std::printf("golden %s RMSE %.3g (limit %.3g)\n", name.c_str(), rmse, kMaxRmse);
+}
+
+TEST(Golden, DefaultSceneMatchesTheReference) { check_golden(ShadowMode::kSoft, "golden_default"); }
+
+TEST(Golden, DefaultSceneWithHardShadowsMatchesTheHardReference) {
+  check_golden(ShadowMode::kHard, "golden_default_hard");
 }
 
 }  // namespace

@@ -1,0 +1,21 @@
+// Textures and materials of JSON scene files; loading thread only (throws Failure).
+#pragma once
+#include <map>
+#include <string>
+
+#include "core/scene.h"
+#include "core/scene_json_util.h"
+
+namespace frameless::scene_json {
+
+using TextureNames = std::map<std::string, uint32_t>;
+
+// The "textures" object: image files (shared through `images`) and procedural solid textures.
+void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageCache& images,
+                    TextureNames& names);
+
+// One entry of "materials", with its texture slots resolved by name.
+Material parse_material(const std::string& name, const json& j, const std::string& f,
+                        const TextureNames& textures, const Scene& scene);
+
+}  // namespace frameless::scene_json

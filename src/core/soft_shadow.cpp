@@ -1,0 +1,451 @@
+// Single-sample soft shadows (seed section 3.2; Parker, Shirley and Smits, UUCS-98-019).
+//
+// The light subtends a cone of half-angle theta from the shading point. Each occluder gets an
+// inner object (the occluder shrunk by the cone's radius theta * t at distance t along the
+// shadow ray) and an outer object (grown by the same amount): the offsets grow linearly with the
+// distance from the receiver, so the penumbra starts at zero width where occluder and receiver
+// touch and straddles the hard shadow's edge. Everything is measured as angles seen from the
+// receiver, in units of theta (x = -1 on the inner surface, 0 on the real one, +1 on the outer):
+//  * a shadow ray that meets an inner object sees none of the light: s = 0 exactly, and the
+//    traversal stops there (the early exit of the any-hit query);
+//  * a ray that clears every outer object sees all of it: s = 1 exactly;
+//  * in between, s = edge_visibility(x): the fraction of a uniform disk left uncovered by a
+//    straight edge at x. The report approximates this "sinusoid" by a Bernstein cubic; the exact
+//    form costs one acos per penumbra sample and is what an area light behind a straight edge
+//    gives, so the penumbra's gradient matches the area-sampled reference.
+// x is the signed angular distance to the outline of everything the ray meets, not of each
+// primitive alone: that is how light leaking is handled (the report's concern with touching
+// objects). A mesh's interior edges are not outlines: an edge is one only if it is open, or if
+// the two triangles sharing it fold to the same side as seen from the receiver (a silhouette).
+// Two separate objects that touch still give each other outlines where they meet; when the ray
+// is blocked, the nearest outline is therefore confirmed by one any-hit probe just beyond it, and
+// an outline whose far side is covered by something else is skipped (no light leaks through the
+// seam). Unblocked rays need no probe: the distance to the union is the least distance to a part.
+#include "core/soft_shadow.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/intersect_sphere.h"
+#include "core/intersect_triangle.h"
+#include "core/shading.h"
+#include "core/surface.h"
+
+namespace frameless {
+
+float edge_visibility(float x) {
+  if (x >= 1.0f) return 1.0f;
+  if (x <= -1.0f) return 0.0f;
+  const float covered = (std::acos(x) - x * std::sqrt(std::max(0.0f, 1.0f - x * x))) / kPi;
+  return std::clamp(1.0f - covered, 0.0f, 1.0f);
+}
+
+namespace {
+
+// Orthonormal basis around a unit vector (Duff et al. 2017), branch-free.
+void basis(const Vec3& n, Vec3& b1, Vec3& b2) {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  b1 = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  b2 = Vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+inline float det3(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return glm::dot(a, glm::cross(b, c));
+}
+
+// An outline within the light's cone: normalized distance x and a direction just beyond it.
+struct Outline {
+  float x;
+  Vec3 probe;
+};
+constexpr int kMaxOutlines = 4;
+
+// 2-D point on the receiver's image plane at unit depth along the shadow ray.
+struct P2 {
+  float x, y;
+};
+
+// Distance from the origin to segment ab, and the closest point.
+inline float segment_distance(P2 a, P2 b, P2& closest) {
+  const float ex = b.x - a.x, ey = b.y - a.y;
+  const float len2 = ex * ex + ey * ey;
+  float t = len2 > 0.0f ? -(a.x * ex + a.y * ey) / len2 : 0.0f;
+  t = std::clamp(t, 0.0f, 1.0f);
+  closest = {a.x + t * ex, a.y + t * ey};
+  return std::sqrt(closest.x * closest.x + closest.y * closest.y);
+}
+
+class SoftQuery final : public Accel::ConeVisitor {
+ public:
+  SoftQuery(const Scene& scene, const ShadowQuery& q) : scene_(scene), g_(scene.geometry), q_(q) {
+    basis(q.dir, b1_, b2_);
+    Ray r;
+    r.org = q.org;
+    r.dir = q.dir;
+    r.tmin = 0.0f;
+    r.tmax = q.tmax;
+    ray_ = r;
+    tri_ray_ = make_triangle_ray(r);
+    // Depth range on the shadow ray: the near clip keeps projections finite.
+    z_min_ = 1e-6f * std::max(1.0f, max_component(glm::abs(q.org)));
+  }
+
+  bool leaf(uint32_t first, uint32_t count) override {
+    const uint32_t nt = g_.num_triangles();
+    for (uint32_t p = first; p < first + count; ++p) {
+      const bool stop = p < nt ? triangle(p) : sphere(p - nt);
+      if (stop) return false;
+    }
+    return true;
+  }
+
+  float finish() {
+    if (zero_) return 0.0f;
+    if (!blocked_) return edge_visibility(min_out_);
+    // Blocked: the nearest outline whose far side is really open decides.
+    std::sort(outlines_, outlines_ + n_outlines_,
+              [](const Outline& a, const Outline& b) { return a.x < b.x; });
+    for (int i = 0; i < n_outlines_; ++i) {
+      Ray probe = ray_;
+      probe.dir = outlines_[i].probe;
+      if (!scene_.accel.occluded(probe)) return edge_visibility(-outlines_[i].x);
+    }
+    return 0.0f;
+  }
+
+ private:
+  uint16_t material_of(const std::vector<uint16_t>& mats, uint32_t i) const {
+    return mats.empty() ? 0 : mats[i];
+  }
+  // Dielectrics (transparent shadows) and cut-outs are not soft occluders.
+  bool skip_material(uint16_t m) const {
+    const Material& mat = scene_.materials[m];
+    if (q_.skip_dielectrics && mat.cls == MaterialClass::kDielectric) return true;
+    return mat.cutout();
+  }
+
+  void add_outline(float x, const Vec3& probe) {
+    if (!(x < 1.0f)) return;
+    if (n_outlines_ < kMaxOutlines) {
+      outlines_[n_outlines_++] = {x, probe};
+      return;
+    }
+    int worst = 0;
+    for (int i = 1; i < kMaxOutlines; ++i)
+      if (outlines_[i].x > outlines_[worst].x) worst = i;
+    if (x < outlines_[worst].x) outlines_[worst] = {x, probe};
+  }
+
+  Vec3 direction(P2 p) const { return glm::normalize(q_.dir + p.x * b1_ + p.y * b2_); }
+
+  // Returns true when s = 0 is certain (the ray meets an inner object).
+  bool triangle(uint32_t i) {
+    const uint16_t m = material_of(g_.triangle_material, i);
+    if (skip_material(m)) {
+      // A cut-out occluder casts the hard shadow of its opaque texels.
+      if (scene_.materials[m].cutout()) {
+        Hit h;
+        Ray r = ray_;
+        if (scene_.accel.intersect(r, h) && h.prim == i) return zero_ = true;
+      }
+      return false;
+    }
+    const UVec3 t = g_.triangles[i];
+    const Vec3 w[3] = {g_.positions[t.x] - q_.org, g_.positions[t.y] - q_.org,
+                       g_.positions[t.z] - q_.org};
+    float z[3];
+    for (int k = 0; k < 3; ++k) z[k] = glm::dot(w[k], q_.dir);
+    const float zmax = q_.tmax;
+    if ((z[0] <= z_min_ && z[1] <= z_min_ && z[2] <= z_min_) ||
+        (z[0] >= zmax && z[1] >= zmax && z[2] >= zmax))
+      return false;
+    const float orient = det3(w[0], w[1], w[2]);
+    if (!(orient != 0.0f)) return false;  // seen edge-on: covers nothing
+
+    // Clip the triangle to z in [z_min, zmax] (a convex polygon of at most 5 corners) and project
+    // it to unit depth; edge_id[k] names the original edge of polygon edge (k, k+1), or -1.
+    Vec3 poly[5];
+    int edge_id[5];
+    int n = 0;
+    const bool clip = z[0] <= z_min_ || z[1] <= z_min_ || z[2] <= z_min_ || z[0] >= zmax ||
+                      z[1] >= zmax || z[2] >= zmax;
+    if (!clip) {
+      for (int k = 0; k < 3; ++k) poly[k] = w[k], edge_id[k] = k;
+      n = 3;
+    } else {
+      n = clip_polygon(w, poly, edge_id);
+      if (n < 3) return false;
+    }
+    P2 p[5];
+    for (int k = 0; k < n; ++k) {
+      const float d = glm::dot(poly[k], q_.dir);
+      p[k] = {glm::dot(poly[k], b1_) / d, glm::dot(poly[k], b2_) / d};
+    }
+    float u, v, th;
+    const bool inside = intersect_triangle(tri_ray_, g_.positions[t.x], g_.positions[t.y],
+                                           g_.positions[t.z], 0.0f, q_.tmax, th, u, v);
+    // Orientation of the projected polygon, to find each edge's outward side.
+    float area2 = 0.0f;
+    for (int k = 0; k < n; ++k) {
+      const P2 a = p[k], b = p[(k + 1) % n];
+      area2 += a.x * b.y - a.y * b.x;
+    }
+    const float out_sign = area2 > 0.0f ? 1.0f : -1.0f;
+    const float tan_half = q_.tan_half;
+    float min_d = kInfinity;
+    const bool adjacency = !g_.triangle_opposite.empty();
+    for (int k = 0; k < n; ++k) {
+      const P2 a = p[k], b = p[(k + 1) % n];
+      P2 c;
+      const float d = segment_distance(a, b, c);
+      min_d = std::min(min_d, d);
+      const int e = edge_id[k];
+      if (e < 0 || !(d < tan_half)) continue;
+      // An interior edge of a mesh is not an outline: the neighbour continues the surface.
+      if (adjacency) {
+        const uint32_t opp = g_.triangle_opposite[i][e];
+        if (opp != kInvalidId) {
+          const float side = det3(w[e], w[(e + 1) % 3], g_.positions[opp] - q_.org);
+          if ((side > 0.0f) != (orient > 0.0f) && side != 0.0f) continue;
+        }
+      }
+      // Outward normal of edge ab in the plane: to the right of a->b for a counter-clockwise
+      // polygon, so the probe lands just outside this triangle.
+      const float ex = b.x - a.x, ey = b.y - a.y;
+      const float len = std::sqrt(ex * ex + ey * ey);
+      if (!(len > 0.0f)) continue;
+      const float eps = 1e-3f * tan_half;
+      const P2 probe{c.x + out_sign * ey / len * eps, c.y - out_sign * ex / len * eps};
+      add_outline(d / tan_half, direction(probe));
+    }
+    if (inside) {
+      blocked_ = true;
+      // The light's whole disk lies inside this triangle: the ray meets its inner object.
+      if (min_d >= tan_half) return zero_ = true;
+    } else {
+      min_out_ = std::min(min_out_, min_d / tan_half);
+    }
+    return false;
+  }
+
+  // Sutherland-Hodgman clip of triangle w against z >= z_min and z <= zmax.
+  int clip_polygon(const Vec3 w[3], Vec3 out[5], int edge_id[5]) const {
+    Vec3 a[5], b[5];
+    int ida[5], idb[5];
+    int na = 3;
+    for (int k = 0; k < 3; ++k) a[k] = w[k], ida[k] = k;
+    for (int plane = 0; plane < 2; ++plane) {
+      int nb = 0;
+      for (int k = 0; k < na && nb < 5; ++k) {
+        const Vec3 &p0 = a[k], &p1 = a[(k + 1) % na];
+        const float d0 = plane == 0 ? glm::dot(p0, q_.dir) - z_min_ : q_.tmax - glm::dot(p0, q_.dir);
+        const float d1 = plane == 0 ? glm::dot(p1, q_.dir) - z_min_ : q_.tmax - glm::dot(p1, q_.dir);
+        const bool in0 = d0 >= 0.0f, in1 = d1 >= 0.0f;
+        if (in0) {
+          b[nb] = p0;
+          idb[nb++] = ida[k];
+        }
+        if (in0 != in1 && nb < 5) {
+          const float s = d0 / (d0 - d1);
+          b[nb] = p0 + s * (p1 - p0);
+          // The new corner starts the clip edge when leaving, the old edge when entering.
+          idb[nb++] = in0 ? -1 : ida[k];
+        }
+      }
+      na = nb;
+      for (int k = 0; k < na; ++k) a[k] = b[k], ida[k] = idb[k];
+    }
+    for (int k = 0; k < na; ++k) out[k] = a[k], edge_id[k] = ida[k];
+    return na;
+  }
+
+  bool sphere(uint32_t i) {
+    const uint16_t m = material_of(g_.sphere_material, i);
+    if (skip_material(m)) {
+      if (scene_.materials[m].cutout()) {
+        Hit h;
+        if (scene_.accel.intersect(ray_, h) && h.prim == g_.num_triangles() + i)
+          return zero_ = true;
+      }
+      return false;
+    }
+    const Sphere& s = g_.spheres[i];
+    const Vec3 w = s.center - q_.org;
+    const float dist = glm::length(w);
+    const float r = std::fabs(s.radius);
+    if (!(dist > r)) return false;  // the receiver is inside: not an occluder
+    const float z = glm::dot(w, q_.dir);
+    if (z + r <= z_min_ || z - r >= q_.tmax) return false;
+    const Vec3 perp = w - z * q_.dir;
+    const float perp_len = glm::length(perp);
+    const float gamma = std::atan2(perp_len, z);  // angle from the ray to the centre
+    const float alpha = std::asin(std::min(1.0f, r / dist));  // the outline's angular radius
+    const float x = (gamma - alpha) / q_.half_angle;          // < 0: the ray meets the sphere
+    float th;
+    const bool inside = intersect_sphere(q_.org, q_.dir, s, 0.0f, q_.tmax, th);
+    if (x < 1.0f && x > -1.0f) {
+      // Probe just outside the outline, on the far side from the centre.
+      const Vec3 u = perp_len > 0.0f ? perp / perp_len : b1_;
+      const float phi = (alpha - gamma) + 1e-3f * q_.half_angle;  // rotate away from the centre
+      add_outline(std::fabs(x), std::cos(phi) * q_.dir - std::sin(phi) * u);
+    }
+    if (inside) {
+      blocked_ = true;
+      if (x <= -1.0f) return zero_ = true;
+    } else {
+      min_out_ = std::min(min_out_, std::max(x, 0.0f));
+    }
+    return false;
+  }
+
+  const Scene& scene_;
+  const Geometry& g_;
+  const ShadowQuery& q_;
+  Vec3 b1_, b2_;
+  Ray ray_;
+  TriangleRay tri_ray_;
+  float z_min_;
+  bool blocked_ = false;
+  bool zero_ = false;
+  float min_out_ = kInfinity;  // least normalized distance to a part the ray misses
+  Outline outlines_[kMaxOutlines];
+  int n_outlines_ = 0;
+};
+
+}  // namespace
+
+float soft_visibility(const Scene& scene, const ShadowQuery& q) {
+  if (!(q.tan_half > 0.0f) || !(q.half_angle > 0.0f)) {
+    Ray r;
+    r.org = q.org;
+    r.dir = q.dir;
+    r.tmax = q.tmax;
+    return scene.accel.occluded(r) ? 0.0f : 1.0f;
+  }
+  SoftQuery query(scene, q);
+  Ray r;
+  r.org = q.org;
+  r.dir = q.dir;
+  r.tmax = q.tmax;
+  if (!scene.accel.visit_cone(r, q.tan_half, query)) return 0.0f;
+  return query.finish();
+}
+
+float area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng) {
+  samples = std::max(1, samples);
+  Vec3 b1, b2;
+  basis(q.dir, b1, b2);
+  const float cos_max = std::cos(q.half_angle);
+  // Stratified over the cone's solid angle: rows in cos(theta), columns in azimuth.
+  const int rows = std::max(1, int(std::sqrt(float(samples))));
+  int visible = 0;
+  for (int k = 0; k < samples; ++k) {
+    const int row = k % rows, col = k / rows, cols = (samples + rows - 1) / rows;
+    const float u1 = (float(row) + rng.next_float()) / float(rows);
+    const float u2 = (float(col) + rng.next_float()) / float(cols);
+    const float cos_t = 1.0f - u1 * (1.0f - cos_max);
+    const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
+    const float phi = 2.0f * kPi * u2;
+    Ray r;
+    r.org = q.org;
+    r.dir = glm::normalize(cos_t * q.dir + sin_t * (std::cos(phi) * b1 + std::sin(phi) * b2));
+    r.tmax = q.tmax;
+    if (!scene.accel.occluded(r)) ++visible;
+  }
+  return float(visible) / float(samples);
+}
+
+Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque) {
+  Vec3 tr(1.0f);
+  Ray r = ray;
+  const Geometry& g = scene.geometry;
+  const uint32_t nt = g.num_triangles();
+  Vec3 entered(0.0f);
+  const Material* inside = nullptr;
+  // The shadow ray is not bent at interfaces (the usual approximation of transparent shadows).
+  for (int crossings = 0; crossings < 64; ++crossings) {
+    Hit h;
+    if (!scene.accel.intersect(r, h)) return inside ? Vec3(0.0f) : tr;
+    const uint32_t i = h.prim < nt ? h.prim : h.prim - nt;
+    const std::vector<uint16_t>& mats = h.prim < nt ? g.triangle_material : g.sphere_material;
+    const Material& m = scene.materials[mats.empty() ? 0 : mats[i]];
+    const SurfacePoint sp = surface_point(g, r, h);
+    if (m.cls == MaterialClass::kDielectric) {
+      if (inside) {
+        const float len = glm::length(sp.p - entered);
+        for (int c = 0; c < 3; ++c) tr[c] *= std::exp(-inside->extinction[c] * len);
+      }
+      // k_t = 1 - k_s at this crossing (Schlick, as in shading).
+      const float cos_i = std::fabs(glm::dot(r.dir, sp.ng));
+      tr *= 1.0f - schlick(cos_i, r0_from_ior(m.ior));
+      inside = inside ? nullptr : &m;
+      entered = sp.p;
+    } else if (!ignore_opaque) {
+      return Vec3(0.0f);
+    }
+    if (max_component(tr) <= 0.0f) return Vec3(0.0f);
+    // Continue from just beyond the surface, keeping the same end point.
+    const Vec3 end = r.org + r.tmax * r.dir;
+    r.org = offset_ray_origin(sp.p, -sp.ng, sp.scale);
+    r.tmin = 0.0f;
+    r.tmax = std::isfinite(r.tmax) ? std::max(0.0f, glm::dot(end - r.org, r.dir)) : kInfinity;
+    if (!(r.tmax > 0.0f)) return tr;
+  }
+  return tr;
+}
+
+void build_triangle_adjacency(Geometry& g) {
+  const uint32_t nt = g.num_triangles();
+  g.triangle_opposite.assign(nt, UVec3(kInvalidId));
+  auto key = [&](uint32_t v) {
+    const Vec3 p = g.positions[v];
+    uint64_t h = std::bit_cast<uint32_t>(p.x);
+    h = h * 0x9e3779b97f4a7c15ull ^ std::bit_cast<uint32_t>(p.y);
+    h = h * 0x9e3779b97f4a7c15ull ^ std::bit_cast<uint32_t>(p.z);
+    return h;
+  };
+  struct Side {
+    uint32_t tri;
+    uint8_t edge;
+    uint8_t count;
+  };
+  std::unordered_map<uint64_t, Side> edges;
+  edges.reserve(size_t(nt) * 2);
+  std::vector<uint64_t> vkey(g.positions.size());
+  for (size_t v = 0; v < vkey.size(); ++v) vkey[v] = key(uint32_t(v));
+  auto edge_key = [&](uint64_t a, uint64_t b) {
+    if (a > b) std::swap(a, b);
+    return a * 0xff51afd7ed558ccdull ^ (b + 0x9e3779b97f4a7c15ull + (a << 6) + (a >> 2));
+  };
+  for (uint32_t t = 0; t < nt; ++t) {
+    const UVec3 tri = g.triangles[t];
+    for (uint8_t e = 0; e < 3; ++e) {
+      const uint32_t a = tri[e], b = tri[(e + 1) % 3];
+      if (a >= vkey.size() || b >= vkey.size()) continue;
+      const uint64_t k = edge_key(vkey[a], vkey[b]);
+      auto [it, fresh] = edges.try_emplace(k, Side{t, e, 1});
+      if (fresh) continue;
+      Side& s = it->second;
+      ++s.count;
+      const UVec3 other = g.triangles[s.tri];
+      // Same edge by position (hash collisions are checked by comparing the corners).
+      const Vec3 pa = g.positions[a], pb = g.positions[b];
+      const Vec3 qa = g.positions[other[s.edge]], qb = g.positions[other[(s.edge + 1) % 3]];
+      const bool same = (pa == qa && pb == qb) || (pa == qb && pb == qa);
+      if (s.count == 2 && same) {
+        g.triangle_opposite[t][e] = other[(s.edge + 2) % 3];
+        g.triangle_opposite[s.tri][s.edge] = tri[(e + 2) % 3];
+      } else {
+        // Non-manifold (three or more faces) or a collision: treat both as open edges.
+        g.triangle_opposite[t][e] = kInvalidId;
+        g.triangle_opposite[s.tri][s.edge] = kInvalidId;
+      }
+    }
+  }
+}
+
+}  // namespace frameless
