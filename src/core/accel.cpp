@@ -310,6 +310,36 @@ namespace {
 // that radius of the axis at its own depth, so it lies in the grown box on the axis: conservative.
 inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r, float tan_half,
                               float tmax) {
+#if defined(__AVX2__)
+  const __m256 zero = _mm256_setzero_ps();
+  __m256 far_t = zero;  // largest depth along the axis of any box corner
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(ray.org[a]), d = _mm256_set1_ps(ray.dir[a]);
+    const __m256 lo = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[2 * a]), o), d);
+    const __m256 hi = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[2 * a + 1]), o), d);
+    far_t = _mm256_add_ps(far_t, _mm256_max_ps(lo, hi));
+  }
+  // Empty slots give NaN or -inf here and fail the compare below.
+  const __m256 in_front = _mm256_cmp_ps(far_t, zero, _CMP_GE_OQ);
+  // The rounding of far_t and of the slab test is covered by a relative margin.
+  const __m256 grow = _mm256_add_ps(
+      _mm256_mul_ps(_mm256_set1_ps(tan_half * 1.0001f),
+                    _mm256_min_ps(far_t, _mm256_set1_ps(tmax))),
+      _mm256_set1_ps(1e-30f));
+  __m256 tn = zero, tf = _mm256_set1_ps(tmax);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(r.org[a]);
+    // Entry plane moves against the direction of travel, exit plane with it.
+    const bool neg = r.near[a] & 1;
+    const __m256 g = neg ? _mm256_sub_ps(zero, grow) : grow;
+    const __m256 near_plane = _mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[a]]), g);
+    const __m256 far_plane = _mm256_add_ps(_mm256_load_ps(n.bounds[r.near[a] ^ 1]), g);
+    tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, o), _mm256_set1_ps(r.inv[a])), tn);
+    tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, o), _mm256_set1_ps(r.inv_far[a])), tf);
+  }
+  const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ), in_front);
+  return uint32_t(_mm256_movemask_ps(hit));
+#else
   uint32_t mask = 0;
   for (int i = 0; i < kBvhWidth; ++i) {
     if (n.bounds[0][i] > n.bounds[1][i]) continue;  // empty slot
@@ -318,7 +348,6 @@ inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r
       far_t += std::max((n.bounds[2 * a][i] - ray.org[a]) * ray.dir[a],
                         (n.bounds[2 * a + 1][i] - ray.org[a]) * ray.dir[a]);
     if (!(far_t >= 0.0f)) continue;  // wholly behind the apex
-    // The rounding of far_t and of the slab test is covered by a relative margin.
     const float grow = tan_half * std::min(far_t, tmax) * 1.0001f + 1e-30f;
     float tn = 0.0f, tf = tmax;
     for (int a = 0; a < 3; ++a) {
@@ -330,6 +359,7 @@ inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r
     mask |= uint32_t(tn <= tf) << i;
   }
   return mask;
+#endif
 }
 
 }  // namespace

@@ -12,18 +12,20 @@ namespace {
 
 constexpr const char* kShowcaseJson = R"json({
   "camera": { "eye": [0.4, 3.3, 8.6], "look": [0.1, 1.0, 0], "fov": 42 },
-  "settings": { "shadows": "soft" },
+  "settings": { "shadows": "soft", "background": [0.42, 0.5, 0.62] },
   "ambient": { "type": "hemisphere", "a": [0.16, 0.19, 0.24], "b": [0.05, 0.04, 0.03] },
   "lights": [
     { "type": "spherical", "position": [-3.5, 7.5, 4.5], "color": [0.95, 0.9, 0.82], "radius": 0.9 }
   ],
   "textures": {
-    "tiles": { "type": "image", "file": "assimp/models/OBJ/wal67ar_small.jpg", "uv_scale": [6, 6] },
+    "tiles": { "type": "image", "file": "assimp/models/OBJ/wal67ar_small.jpg", "uv_scale": [16, 16] },
     "crate": { "type": "image", "file": "glmark2/textures/crate-base.png" },
     "glyphs": { "type": "image", "file": "glmark2/textures/glyph-atlas.png", "srgb": false,
-                "wrap": "clamp", "uv_scale": [1, 0.115], "uv_offset": [0, 0.64] },
+                "wrap": "clamp", "uv_scale": [0.99, 0.104], "uv_offset": [0, 0.668] },
     "bumps": { "type": "image", "file": "glmark2/textures/asteroid-normal-map-tangent.png",
-               "srgb": false },
+               "srgb": false, "uv_scale": [2, 1] },
+    "heights": { "type": "image", "file": "glmark2/textures/asteroid-height-map.png",
+                 "srgb": false, "uv_scale": [2, 1] },
     "marble": { "type": "marble", "color_a": [0.92, 0.9, 0.86], "color_b": [0.25, 0.22, 0.24],
                 "frequency": 2.2, "octaves": 6, "amplitude": 6 },
     "wood": { "type": "wood", "color_a": [0.62, 0.4, 0.2], "color_b": [0.33, 0.18, 0.08],
@@ -41,17 +43,20 @@ constexpr const char* kShowcaseJson = R"json({
     "wood": { "class": "polished", "kd": 1, "kd_texture": "wood", "r0": 0.03, "kh": 0.3,
               "phong_exponent": 40 },
     "rock": { "class": "diffuse", "kd": [0.55, 0.5, 0.46], "normal_texture": "bumps" },
+    "stone": { "class": "diffuse", "kd": [0.5, 0.52, 0.55], "bump_texture": "heights",
+               "bump_scale": 4 },
     "glass": { "class": "dielectric", "ior": 1.5, "extinction": [0.25, 0.08, 0.04] },
     "gold": { "class": "metal", "ks": [0.95, 0.74, 0.35], "phong_exponent": 400 }
   },
   "objects": [
-    { "type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "size": 14, "material": "floor" },
-    { "type": "plane", "point": [0, 3.5, -3.2], "normal": [0, 0, 1], "size": 14, "material": "wall" },
+    { "type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "size": 40, "material": "floor" },
+    { "type": "plane", "point": [0, 3.5, -3.2], "normal": [0, 0, 1], "size": 40, "material": "wall" },
     { "type": "box", "min": [-3.6, 0, -1.6], "max": [-2.2, 1.4, -0.2], "material": "crate" },
     { "type": "sphere", "center": [-0.9, 0.85, -0.9], "radius": 0.85, "material": "marble" },
     { "type": "sphere", "center": [1.9, 0.75, -0.2], "radius": 0.75, "material": "wood" },
     { "type": "sphere", "center": [0.45, 0.5, 1.1], "radius": 0.5, "material": "glass" },
     { "type": "sphere", "center": [-2.1, 0.45, 1.3], "radius": 0.45, "material": "rock" },
+    { "type": "sphere", "center": [-1.0, 0.3, 2.4], "radius": 0.3, "material": "stone" },
     { "type": "sphere", "center": [3.2, 0.35, 1.5], "radius": 0.35, "material": "gold" },
     { "type": "triangles", "material": "glyphs",
       "vertices": [[-1.6, 2.0, -2.0], [2.6, 2.0, -2.0], [2.6, 2.55, -1.6], [-1.6, 2.55, -1.6]],

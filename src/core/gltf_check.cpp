@@ -24,8 +24,7 @@ uint32_t read_u32(const std::string& b, size_t at) {
          uint32_t(uint8_t(b[at + 2])) << 16 | uint32_t(uint8_t(b[at + 3])) << 24;
 }
 
-// Deepest [ / { nesting outside strings (a byte scan: cheap, and bounded before any parser
-// recurses).
+// Deepest [ / { nesting outside strings: a byte scan, before any parser recurses.
 int json_depth(std::string_view text) {
   int depth = 0, deepest = 0;
   bool in_string = false;

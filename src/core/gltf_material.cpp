@@ -42,17 +42,16 @@ double ext_number(const tinygltf::ExtensionMap& ext, const char* name, const cha
   return v.IsNumber() && std::isfinite(v.GetNumberAsDouble()) ? v.GetNumberAsDouble() : fallback;
 }
 
-// Two- or three-number array member `key` of extension `name` into out[0..n), if present.
+// Array member `key` of extension `name` into out[0..n) when it holds n finite numbers.
 bool ext_numbers(const tinygltf::ExtensionMap& ext, const char* name, const char* key, int n,
                  double* out) {
   const auto it = ext.find(name);
   if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return false;
   const tinygltf::Value& v = it->second.Get(key);
   if (!v.IsArray() || v.ArrayLen() != size_t(n)) return false;
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i)
     if (!v.Get(i).IsNumber() || !std::isfinite(v.Get(i).GetNumberAsDouble())) return false;
-    out[i] = v.Get(i).GetNumberAsDouble();
-  }
+  for (int i = 0; i < n; ++i) out[i] = v.Get(i).GetNumberAsDouble();
   return true;
 }
 
@@ -96,12 +95,10 @@ Result<Material> MaterialMap::convert(int index) {
       ext_number(g.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0);
   const bool blend = g.alphaMode == "BLEND", mask = g.alphaMode == "MASK";
 
-  auto base_tex = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.extensions, true,
-                          where + ": baseColorTexture");
-  if (!base_tex) return base_tex.error();
   auto normal_tex =
       texture(g.normalTexture.index, g.normalTexture.extensions, false, where + ": normalTexture");
   if (!normal_tex) return normal_tex.error();
+  m.normal_tex = *normal_tex;
   if (pbr.baseColorTexture.texCoord != 0 || g.normalTexture.texCoord != 0)
     warn_once("textures on TEXCOORD_1 or higher use TEXCOORD_0");
 
@@ -118,8 +115,11 @@ Result<Material> MaterialMap::convert(int index) {
         ext_numbers(g.extensions, "KHR_materials_volume", "attenuationColor", 3, color))
       for (int i = 0; i < 3; ++i)
         m.extinction[i] = float(-std::log(std::clamp(color[i], 1e-4, 1.0)) / dist);
-    return m;  // a transmitting surface is never cut out
+    return m;  // a transmitting surface is never cut out, and has no base colour texture
   }
+  auto base_tex = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.extensions, true,
+                          where + ": baseColorTexture");
+  if (!base_tex) return base_tex.error();
   if (metallic >= 0.5) {
     m.cls = MaterialClass::kMetal;
     m.ks = Vec3(base);
@@ -139,7 +139,6 @@ Result<Material> MaterialMap::convert(int index) {
     m.opacity = base.w;
     m.alpha_cutoff = mask ? float(std::clamp(g.alphaCutoff, 0.0, 1.0)) : 0.5f;
   }
-  m.normal_tex = *normal_tex;
   return m;
 }
 

@@ -1,4 +1,5 @@
-// PLY input: ascii, binary little and big endian. Vertex x, y, z (+ optional nx, ny, nz), face
+// PLY input: ascii, binary little and big endian. Vertex x, y, z (+ optional nx, ny, nz and u v,
+// s t or texture_u texture_v), face
 // vertex_indices lists of any integer types, polygons triangulated as fans. Counts in the header
 // are never trusted for allocation: every read is checked against the bytes actually present.
 #include <bit>
@@ -262,7 +263,7 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
   };
 
   for (const Element& e : h.elements) {
-    int xyz[3] = {-1, -1, -1}, nxyz[3] = {-1, -1, -1}, indices = -1;
+    int xyz[3] = {-1, -1, -1}, nxyz[3] = {-1, -1, -1}, uv[2] = {-1, -1}, indices = -1;
     for (size_t i = 0; i < e.props.size(); ++i) {
       const Property& p = e.props[i];
       static const char* kAxes[3] = {"x", "y", "z"};
@@ -272,6 +273,9 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
         if (p.name == kNormals[k]) nxyz[k] = int(i);
       }
       if (p.name == "vertex_indices" || p.name == "vertex_index") indices = int(i);
+      // Texture coordinates go by several names in the wild.
+      if (p.name == "u" || p.name == "s" || p.name == "texture_u" || p.name == "texture_s") uv[0] = int(i);
+      if (p.name == "v" || p.name == "t" || p.name == "texture_v" || p.name == "texture_t") uv[1] = int(i);
     }
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     if (is_vertex) {
@@ -281,6 +285,8 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
         if (e.props[size_t(xyz[k])].is_list) return header_error(e, "x, y, z must not be lists");
     }
     const bool with_normals = is_vertex && nxyz[0] >= 0 && nxyz[1] >= 0 && nxyz[2] >= 0;
+    const bool with_uvs = is_vertex && uv[0] >= 0 && uv[1] >= 0 &&
+                          !e.props[size_t(uv[0])].is_list && !e.props[size_t(uv[1])].is_list;
     if (is_face) {
       if (indices < 0) return header_error(e, "needs a list property vertex_indices");
       const Property& p = e.props[size_t(indices)];
@@ -299,6 +305,7 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
     if (is_vertex) {
       mesh.positions.reserve(size_t(e.count));
       if (with_normals) mesh.normals.reserve(size_t(e.count));
+      if (with_uvs) mesh.uvs.reserve(size_t(e.count));
     }
     std::vector<double> list;
     for (uint64_t r = 0; r < e.count; ++r) {
@@ -311,7 +318,7 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
         return Error{path + ":" + where + ": " + what};
       };
       if (!in.begin_record()) return body_error(in.error());
-      double vals[6] = {0, 0, 0, 0, 0, 0};
+      double vals[8] = {0, 0, 0, 0, 0, 0, 0, 0};
       for (size_t i = 0; i < e.props.size(); ++i) {
         const Property& p = e.props[i];
         if (!p.is_list) {
@@ -321,6 +328,8 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
             if (int(i) == xyz[k]) vals[k] = v;
             if (int(i) == nxyz[k]) vals[3 + k] = v;
           }
+          if (int(i) == uv[0]) vals[6] = v;
+          if (int(i) == uv[1]) vals[7] = v;
           continue;
         }
         double count;
@@ -356,6 +365,12 @@ Result<MeshData> parse_ply(const std::string& bytes, const std::string& path) {
                               " is not a finite number");
         mesh.positions.push_back(Vec3(float(vals[0]), float(vals[1]), float(vals[2])));
         if (with_normals) mesh.normals.push_back(Vec3(float(vals[3]), float(vals[4]), float(vals[5])));
+        if (with_uvs) {
+          if (!std::isfinite(vals[6]) || !std::isfinite(vals[7]) || std::fabs(vals[6]) > 3.0e38 ||
+              std::fabs(vals[7]) > 3.0e38)
+            return body_error("texture coordinate is not a finite number");
+          mesh.uvs.push_back(Vec2(float(vals[6]), float(vals[7])));
+        }
       }
     }
   }

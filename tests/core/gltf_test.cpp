@@ -94,7 +94,8 @@ std::string make_gltf(const Spec& s) {
          s.child + R"(, "mesh": 0},
       {"rotation": [-0.70710678, 0, 0, 0.70710678], "extensions": {"KHR_lights_punctual": {"light": 0}}},
       {"translation": [0, 5, 0], "extensions": {"KHR_lights_punctual": {"light": 1}}}],
-    "meshes": [{"primitives": [)" + s.primitives + R"(]}],
+    "meshes": [{"primitives": [)" +
+         s.primitives + R"(]}],
     "materials": [)" +
          s.material + R"(],
     "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 2},
@@ -317,7 +318,8 @@ TEST(GltfWritten, MirroringTransformFlipsTheWinding) {
 TEST(GltfWritten, PrimitivesSharingVertexAccessorsShareVertices) {
   Spec s;
   s.material += R"(, {"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}})";
-  s.primitives += R"(, {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 1},
+  s.primitives +=
+      R"(, {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 1},
                       {"attributes": {"POSITION": 0}, "mode": 6, "material": 1},
                       {"attributes": {"POSITION": 0}, "mode": 1})";
   auto r = parse(make_gltf(s));

@@ -95,6 +95,32 @@ TEST(MeshPly, SkipsOtherElementsAndProperties) {
   EXPECT_EQ(m->positions[2], Vec3(0, 1, 0));
 }
 
+TEST(MeshPly, TextureCoordinatesByAnyCommonName) {
+  for (const char* names : {"u v", "s t", "texture_u texture_v"}) {
+    std::string u(names), v = u.substr(u.find(' ') + 1);
+    u = u.substr(0, u.find(' '));
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                            "property float y\nproperty float z\nproperty float " + u +
+                            "\nproperty float " + v +
+                            "\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                            "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0.25 1\n3 0 1 2\n";
+    auto m = parse_ply(ply, "uv.ply");
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    ASSERT_EQ(m->uvs.size(), 3u) << names;
+    EXPECT_EQ(m->uvs[2], Vec2(0.25f, 1.0f));
+  }
+  const std::string bad =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 nan 0\n"
+      "0 1 0 0 1\n3 0 1 2\n";
+  auto r = parse_ply(bad, "uv.ply");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("uv.ply:13: vertex 1: texture coordinate is not a finite"),
+            std::string::npos)
+      << r.error().message;
+}
+
 TEST(MeshScene, MeshFileIsFramedWithLightAndHemisphere) {
   auto s = load_scene(kData + "/meshes/tetra.obj");
   ASSERT_TRUE(s.ok()) << s.error().message;
