@@ -400,7 +400,7 @@ const bool registered = register_command(
     "time saved and image unchanged",
     [](CLI::App& app) {
       auto args = std::make_shared<AblationArgs>();
-      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj, .ply, .gltf or .glb (default: default)");
       app.add_option("--size", args->size, "Image size WxH (default 320x180)");
       app.add_option("--threads", args->threads, "Engine render threads (default: all hardware threads)");
       app.add_option("--spp", args->spp, "Samples per pixel of each timed one-shot image (default 8)");

@@ -223,7 +223,7 @@ const bool registered = register_command(
     "bench", "engine", "Frameless vs conventional samples/s, display CPU, camera-change latency",
     [](CLI::App& app) {
       auto args = std::make_shared<BenchArgs>();
-      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj or .ply (default: default)");
+      app.add_option("scene", args->scene, "Scene: built-in name, .json, .obj, .ply, .gltf or .glb (default: default)");
       args->shadows.add_to(app);
       app.add_option("--size", args->size, "Image size WxH for throughput and latency (default 640x360)");
       app.add_option("--threads", args->threads, "Render threads (default: all hardware threads)");

@@ -216,7 +216,7 @@ const bool registered = register_command(
     [](CLI::App& app) {
       auto args = std::make_shared<ErrorArgs>();
       app.add_option("scene", args->scene,
-                     "Scene: built-in name, .json, .obj or .ply (default: default)");
+                     "Scene: built-in name, .json, .obj, .ply, .gltf or .glb (default: default)");
       args->shadows.add_to(app);
       app.add_option("--out", args->out, "Output directory (error.json, error.csv, error.png)")
           ->required();

@@ -303,7 +303,7 @@ const bool registered = register_command(
     "Primary- and shadow-ray throughput of the BVH (and of Embree when built with it)",
     [](CLI::App& app) {
       auto a = std::make_shared<BenchArgs>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
+      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
       a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();

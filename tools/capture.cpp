@@ -107,7 +107,7 @@ const bool registered = register_command(
     "Headless capture (OSMesa) of the frameless display over time: EXR sequence + manifest",
     [](CLI::App& app) {
       auto a = std::make_shared<CaptureArgs>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
+      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
       a->shadows.add_to(app);
       app.add_option("--out", a->out, "output folder (frames, manifest.json, contact_sheet.png)")

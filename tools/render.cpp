@@ -88,7 +88,7 @@ const bool registered = register_command(
     [](CLI::App& app) {
       auto a = std::make_shared<RenderArgs>();
       app.add_option("scene", a->scene,
-                     "built-in name, .json scene or .obj/.ply mesh (default: default)");
+                     "built-in name, .json scene or .obj/.ply/.gltf/.glb model (default: default)");
       a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH (default: the scene's)");
       app.add_option("--spp", a->spp, "samples per pixel (default: the scene's)");

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job: builds frameless and runs it on the built-in default scene. With a display it
+# The main job: builds frameless and runs it on the built-in showcase scene (soft shadows,
+# image and solid textures, a cut-out, a glTF model). With a display it
 # opens the interactive frameless viewer; without one it makes a short headless capture of the
 # frameless display (OSMesa -> OpenEXR) into captures/ and says where to look.
 # Extra arguments go to `frameless view` (or `frameless capture` when headless).
@@ -11,12 +12,12 @@ tools/build.sh build/release -DFRAMELESS_TESTS=OFF -- frameless >/dev/null
 bin=build/release/tools/frameless
 
 if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
-  echo "opening the frameless viewer on the default scene (H for help, Esc to quit)"
-  "$bin" view default "$@" && exit 0
+  echo "opening the frameless viewer on the showcase scene (H for help, Esc to quit)"
+  "$bin" view showcase "$@" && exit 0
   echo "the viewer could not open a window; making a headless capture instead" >&2
 fi
-out=captures/default
-"$bin" capture default --out "$out" --size 480x360 --duration 3 --refresh 30 --orbit 30 \
+out=captures/showcase
+"$bin" capture showcase --out "$out" --size 480x270 --duration 3 --refresh 30 --orbit 30 \
   --cut-at 2 --cut-orbit -35 --layers age,count "$@"
 echo
 echo "headless capture of the frameless display written to $out/:"

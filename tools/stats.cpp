@@ -328,7 +328,7 @@ const bool registered = register_command(
     "", "stats", "Measure the pixel-update distribution (uniformity, structure, staleness, balance, coherence)",
     [](CLI::App& app) {
       auto a = std::make_shared<StatsArgs>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh (default: default)");
+      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model (default: default)");
       a->shadows.add_to(app);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads, "render threads (default: all cores)");

@@ -56,7 +56,7 @@ const bool registered = register_command(
     "", "view", "Interactive frameless viewer (GLFW window; H in the window shows the controls)",
     [](CLI::App& app) {
       auto a = std::make_shared<ViewArgs>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply mesh")
+      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
       a->shadows.add_to(app);
       app.add_option("--size", a->size, "window size WxH")->capture_default_str();
