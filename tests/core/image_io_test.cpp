@@ -15,6 +15,7 @@
 #include <png.h>
 
 #include "core/texture.h"
+#include "png_chunks.h"
 
 namespace frameless {
 namespace {
@@ -136,22 +137,9 @@ void write_exr(const std::string& path, int w, int h, const std::vector<std::str
   std::ofstream(path, std::ios::binary) << f;
 }
 
-uint32_t crc32(const std::string& s) {
-  uint32_t c = 0xffffffffu;
-  for (unsigned char b : s) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  return ~c;
-}
-
-std::string be32(uint32_t v) {
-  return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-}
-
-std::string png_chunk(const std::string& type, const std::string& data) {
-  return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data));
-}
+using testing::crc32;
+using testing::be32;
+using testing::png_chunk;
 
 std::string read_all(const std::string& path) {
   std::ifstream f(path, std::ios::binary);

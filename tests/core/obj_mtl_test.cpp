@@ -13,6 +13,7 @@
 #include "core/mesh_obj.h"
 #include "core/scene_build.h"
 #include "core/scene_io.h"
+#include "png_chunks.h"
 
 namespace frameless {
 namespace {
@@ -21,14 +22,8 @@ namespace fs = std::filesystem;
 const std::string kData = FRAMELESS_TEST_DATA;
 
 // A minimal PNG (8-bit, stored deflate blocks): channels 1 grey, 3 RGB, 4 RGBA.
-uint32_t crc32(const std::string& s) {
-  uint32_t c = 0xffffffffu;
-  for (unsigned char b : s) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-  }
-  return ~c;
-}
+using testing::crc32;
+
 void put32(std::string& s, uint32_t v) {
   for (int k = 3; k >= 0; --k) s += char((v >> (8 * k)) & 0xff);
 }
