@@ -217,6 +217,31 @@ TEST(Texturing, JsonTexturesAndTheirErrors) {
       << unknown.error().message;
 }
 
+TEST(Texturing, JsonSceneReferencesAGltfModelWithTransformAndOverride) {
+  const std::string model = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+  if (!std::filesystem::exists(model)) GTEST_SKIP() << "assimp-testmodels not installed";
+  auto scene = [&](const std::string& extra) {
+    const std::string text = R"({"materials": {"red": {"class": "diffuse", "kd": [1, 0, 0]}},
+      "objects": [{"type": "mesh", "file": ")" + model + R"(", "transform": {"translate": [10, 0, 0]})" +
+                             extra + "}]}";
+    return parse_scene_json(text, "m.json", "/");
+  };
+  auto own = scene("");
+  ASSERT_TRUE(own.ok()) << own.error().message;
+  const Scene& a = *own.value();
+  EXPECT_EQ(a.geometry.num_triangles(), 12u);
+  ASSERT_EQ(a.materials.size(), 2u);  // "red", then the model's own
+  EXPECT_NE(a.materials[1].kd_tex, kNoTexture);
+  for (uint16_t m : a.geometry.triangle_material) EXPECT_EQ(m, 1);
+  Vec3 lo, hi;
+  scene_bounds(a.geometry, lo, hi);
+  EXPECT_NEAR(0.5f * (lo.x + hi.x), 10.0f, 1e-4f);
+  auto over = scene(R"(, "material": "red")");
+  ASSERT_TRUE(over.ok()) << over.error().message;
+  for (uint16_t m : over.value()->geometry.triangle_material) EXPECT_EQ(m, 0);
+  EXPECT_FALSE(over.value()->features.has_textures);
+}
+
 TEST(Texturing, ShowcaseSceneLoadsWithEverything) {
   if (!std::filesystem::exists("/usr/share/glmark2/textures") ||
       !std::filesystem::exists("/usr/share/assimp/models"))
