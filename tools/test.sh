@@ -2,7 +2,7 @@
 # Builds and runs every test: Release suite, then ASan+UBSan (all but the concurrency suites),
 # then ThreadSanitizer (engine and exchange suites), then the scene/mesh parser fuzzer for a bounded time.
 # Usage: tools/test.sh [--quick]   (--quick: Release suite only)
-# Env: FRAMELESS_FUZZ_SECONDS (default 45), FRAMELESS_LONG_TESTS=1 for long stress runs.
+# Env: FRAMELESS_FUZZ_SECONDS (default 90), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -32,11 +32,11 @@ tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitiz
   ctest -j"$jobs" --output-on-failure -L 'engine|exchange')
 
 if [ -f tests/fuzz/CMakeLists.txt ]; then
-  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-45} s)"
+  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-90} s)"
   tools/build.sh build/fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
     -DFRAMELESS_FUZZ=ON -DFRAMELESS_TESTS=ON -- scene_fuzzer
   mkdir -p build/fuzz/corpus
-  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-45}" \
+  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-90}" \
     -rss_limit_mb=2048 -max_len=65536 build/fuzz/corpus tests/fuzz/corpus 2>build/fuzz/fuzz.log ||
     { tail -50 build/fuzz/fuzz.log; exit 1; }
   echo "fuzzer: $(grep -c . build/fuzz/fuzz.log) log lines, no crash"

@@ -27,4 +27,23 @@ class Result {
   std::variant<T, Error> v_;
 };
 
+// Keeps a message on one line whatever the input quoted in it holds: line breaks become the
+// escapes \n and \r (file names and JSON strings may contain them).
+inline std::string one_line(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else out += c;
+  }
+  return out;
+}
+
+template <class T>
+Result<T> one_line(Result<T>&& r) {
+  if (r.ok()) return std::move(r);
+  return Error{one_line(r.error().message)};
+}
+
 }  // namespace frameless

@@ -488,8 +488,10 @@ void Builder::add_lights() {
 
 }  // namespace
 
-Result<ModelData> parse_gltf(const std::string& bytes, const std::string& path,
-                             const std::string& base_dir, ImageCache& images) {
+namespace {
+
+Result<ModelData> parse_gltf_any_text(const std::string& bytes, const std::string& path,
+                                      const std::string& base_dir, ImageCache& images) {
   auto checked = gltf::check_gltf(bytes, path, base_dir);
   if (!checked) return checked.error();
   try {
@@ -516,9 +518,20 @@ Result<ModelData> parse_gltf(const std::string& bytes, const std::string& path,
   }
 }
 
+}  // namespace
+
+// Names and URIs from the file appear in errors and warnings: keep each on one line.
+Result<ModelData> parse_gltf(const std::string& bytes, const std::string& path,
+                             const std::string& base_dir, ImageCache& images) {
+  auto r = parse_gltf_any_text(bytes, path, base_dir, images);
+  if (r.ok())
+    for (std::string& w : r->warnings) w = one_line(w);
+  return one_line(std::move(r));
+}
+
 Result<ModelData> load_gltf(const std::string& path, ImageCache& images) {
   auto bytes = read_file_bytes(path);
-  if (!bytes) return bytes.error();
+  if (!bytes) return Error{one_line(bytes.error().message)};
   const size_t slash = path.find_last_of('/');
   const std::string base_dir = slash == std::string::npos ? "." : path.substr(0, slash);
   return parse_gltf(*bytes, path, base_dir.empty() ? "/" : base_dir, images);

@@ -437,8 +437,9 @@ Result<MeshData> parse_obj_with_materials(const std::string& text, const std::st
 
 Result<MeshData> load_obj_with_materials(const std::string& path, ImageCache& images) {
   auto bytes = read_file_bytes(path);
-  if (!bytes) return bytes.error();
-  return parse_obj_with_materials(*bytes, path, images);
+  if (!bytes) return Error{one_line(bytes.error().message)};
+  // File names from the OBJ and MTL appear in errors: keep them on one line.
+  return one_line(parse_obj_with_materials(*bytes, path, images));
 }
 
 }  // namespace frameless

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include <sys/stat.h>
+
 #include <glm/gtc/matrix_inverse.hpp>
 
 namespace frameless {
@@ -13,6 +15,12 @@ namespace frameless {
 Result<std::string> read_file_bytes(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return Error{path + ": cannot open: " + std::strerror(errno)};
+  // Devices and pipes (/dev/zero, a FIFO) could be read forever: only regular files are input.
+  struct stat st;
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    std::fclose(f);
+    return Error{path + ": not a regular file"};
+  }
   std::string bytes;
   char buf[1 << 16];
   size_t n;

@@ -26,7 +26,9 @@ Result<std::unique_ptr<Scene>> load_scene_json(const std::string& path) {
   return parse_scene_json(*bytes, path, base_dir.empty() ? "/" : base_dir);
 }
 
-Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
+namespace {
+
+Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
   const std::string ext = file_extension(spec);
   if (ext == ".json") return load_scene_json(spec);
   const size_t slash = spec.find_last_of('/');
@@ -57,6 +59,13 @@ Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
     return scene;
   }
   return make_builtin_scene(spec);
+}
+
+}  // namespace
+
+// File names and strings from the input appear in errors: keep every message on one line.
+Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
+  return one_line(load_scene_any_text(spec));
 }
 
 }  // namespace frameless

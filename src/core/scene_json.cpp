@@ -340,9 +340,10 @@ Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const s
   try {
     parse_scene(root, ctx);
   } catch (const Failure& f) {
-    return Error{path + ": " + f.field + ": " + f.what};
+    // Keys and values are quoted as written, and JSON strings may hold line breaks.
+    return Error{one_line(path + ": " + f.field + ": " + f.what)};
   } catch (const json::exception& e) {
-    return Error{path + ": " + e.what()};
+    return Error{one_line(path + ": " + e.what())};
   }
   finalize_scene(*scene);
   return scene;

@@ -200,6 +200,7 @@ TEST(Texturing, JsonTexturesAndTheirErrors) {
   // Each broken input names its field, on one line.
   const std::pair<std::string, std::string> bad[] = {
       {R"({"x": {"type": "velvet"}})", "textures.x.type"},
+      {R"({"x": {"type": "vel\nvet\r"}})", "'vel\\nvet\\r'"},  // quoted input stays on one line
       {R"({"x": {"type": "image", "file": "missing.png"}})", "textures.x.file"},
       {R"({"x": {"type": "marble", "octaves": 99}})", "textures.x.octaves"},
       {R"({"x": {"type": "image", "file": "missing.png", "wrap": "mirror"}})", "textures.x"},

@@ -86,10 +86,10 @@ bool verbose() {
   __builtin_trap();
 }
 
-// An error is one line of output: non-empty, no newline.
+// An error is one line of output: non-empty, no line break.
 void check_error(const Error& e) {
   if (e.message.empty()) broken("error message is empty", "");
-  if (e.message.find('\n') != std::string::npos)
+  if (e.message.find_first_of("\n\r") != std::string::npos)
     broken("error message is not one line", e.message);
   if (verbose()) std::fprintf(stderr, "scene_fuzzer: error: %s\n", e.message.c_str());
 }
