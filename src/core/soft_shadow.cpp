@@ -94,6 +94,8 @@ class SoftQuery final : public Accel::ConeVisitor {
     z_min_ = 1e-6f * std::max(1.0f, max_component(glm::abs(q.org)));
     // Squared tangent with a margin, so rounding never rejects a plane the cone grazes.
     tan2_ = q.tan_half * q.tan_half * 1.01f + 1e-12f;
+    cos_theta_ = std::cos(q.half_angle);
+    sin_theta_ = std::sin(q.half_angle);
   }
 
   bool leaf(uint32_t first, uint32_t count) override {
@@ -294,6 +296,13 @@ class SoftQuery final : public Accel::ConeVisitor {
     if (z + r <= z_min_ || z - r >= q_.tmax) return false;
     const Vec3 perp = w - z * q_.dir;
     const float perp_len = glm::length(perp);
+    // Clear of the outer sphere (gamma >= alpha + theta) by cosines, before any trigonometry:
+    // cos gamma <= cos alpha cos theta - sin alpha sin theta, with a margin for rounding.
+    const float sin_a = r / dist, cos_a = std::sqrt(std::max(0.0f, 1.0f - sin_a * sin_a));
+    if (z < (cos_a * cos_theta_ - sin_a * sin_theta_) * dist * (1.0f - 1e-5f)) {
+      min_out_ = std::min(min_out_, 1.0f);
+      return false;
+    }
     const float gamma = std::atan2(perp_len, z);  // angle from the ray to the centre
     const float alpha = std::asin(std::min(1.0f, r / dist));  // the outline's angular radius
     const float x = (gamma - alpha) / q_.half_angle;          // < 0: the ray meets the sphere
@@ -322,6 +331,7 @@ class SoftQuery final : public Accel::ConeVisitor {
   TriangleRay tri_ray_;
   float z_min_;
   float tan2_;
+  float cos_theta_, sin_theta_;
   bool blocked_ = false;
   bool zero_ = false;
   float min_out_ = kInfinity;  // least normalized distance to a part the ray misses
