@@ -47,13 +47,14 @@ struct ShadeContext {
   float min_weight;  // pruning threshold: min_contribution, or 0 with SkipConfig::prune off
   bool any_hit;      // shadow rays by any-hit traversal (SkipConfig::any_hit)
   int max_depth;
-  Rng* rng;          // the sample's own stream (area-sampled shadows)
+  uint64_t rng_seed;        // the sample's own stream (area-sampled shadows), drawn lazily
+  mutable uint32_t draws;   // streams handed out so far in this sample
 };
 
-ShadeContext make_context(const Scene& scene, Rng* rng) {
+ShadeContext make_context(const Scene& scene, uint64_t rng_seed) {
   const RenderSettings& s = scene.settings;
   return ShadeContext{scene, s.skips.prune ? s.min_contribution : 0.0f, s.skips.any_hit,
-                      s.max_depth, rng};
+                      s.max_depth, rng_seed, 0};
 }
 
 // Shadow factor of a light with an extent, or with transparent shadows (cold path: kept out of
@@ -81,8 +82,8 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
     if (!(s > 0.0f) || !st.transparent_shadows) return Vec3(s);
     return s * shadow_transmittance(c.scene, ray, true);
   }
-  Rng fallback(0x9e3779b9u);
-  Rng& rng = c.rng ? *c.rng : fallback;
+  // One stream per shadow query of the sample: no generator is set up on paths that need none.
+  Rng rng(mix64(c.rng_seed + c.draws++));
   if (!st.transparent_shadows) return Vec3(area_visibility(c.scene, q, st.shadow_samples, rng));
   // Transparent area shadows: the mean transmittance of the sample rays.
   Vec3 sum(0.0f);
@@ -106,7 +107,8 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
 // Hard shadows: one any-hit ray to the light's centre, ending just short of the light. Lights
 // with an extent use the scene's shadow mode (soft_shadow.h).
 template <class F>
-inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp, F&& f) {
+[[gnu::always_inline]] inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp,
+                                                   F&& f) {
   const Scene& scene = c.scene;
   const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
   const bool transparent = scene.settings.transparent_shadows;
@@ -117,8 +119,10 @@ inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp
     if (light.kind == LightKind::kDirectional) {
       l = -light.direction;
       tmax = kInfinity;
-      half_angle = light.angular_radius;
-      tan_half = std::tan(half_angle);
+      if (extended_mode) {
+        half_angle = light.angular_radius;
+        tan_half = std::tan(half_angle);
+      }
     } else {
       const Vec3 to_light = light.position - origin;
       const float dist = glm::length(to_light);
@@ -126,7 +130,8 @@ inline void for_each_visible_light(const ShadeContext& c, const SurfacePoint& sp
       l = to_light / dist;
       // Stop short of the light: its centre, or the surface of a spherical light.
       tmax = std::max(0.0f, dist - light.radius) * (1.0f - 0x1.0p-12f);
-      if (light.radius > 0.0f && dist > light.radius) {
+      // The cone the light subtends, only where soft or area shadows will use it.
+      if (extended_mode && light.radius > 0.0f && dist > light.radius) {
         half_angle = std::asin(light.radius / dist);
         tan_half = light.radius / std::sqrt((dist - light.radius) * (dist + light.radius));
       }
@@ -410,8 +415,7 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
                          const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
                          SurfacePoint* first_point, uint64_t rng_seed) {
-  Rng rng(rng_seed);
-  return kTracePaths[path % kShadePaths](make_context(scene, &rng), ray, ray.org, depth, weight, medium,
+  return kTracePaths[path % kShadePaths](make_context(scene, rng_seed), ray, ray.org, depth, weight, medium,
                                          first_hit, first_point);
 }
 
