@@ -29,7 +29,7 @@ constexpr const char* kShowcaseJson = R"json({
     "marble": { "type": "marble", "color_a": [0.92, 0.9, 0.86], "color_b": [0.25, 0.22, 0.24],
                 "frequency": 2.2, "octaves": 6, "amplitude": 6 },
     "wood": { "type": "wood", "color_a": [0.62, 0.4, 0.2], "color_b": [0.33, 0.18, 0.08],
-              "frequency": 6, "amplitude": 2, "transform": { "translate": [1.9, 0.75, -0.2] } }
+              "frequency": 6, "amplitude": 2, "space": "object" }
   },
   "materials": {
     "floor": { "class": "polished", "kd": 1, "kd_texture": "tiles", "r0": 0.02, "kh": 0.2,

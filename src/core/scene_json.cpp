@@ -2,6 +2,7 @@
 // or out-of-range numbers and unknown material names are errors that name the JSON field path.
 #include <cmath>
 #include <map>
+#include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -165,21 +166,39 @@ struct Context {
   std::string base_dir;
   TextureNames textures;
   ImageCache images;
+  std::set<uint32_t> object_space;  // solid textures that follow the object they are on
 };
 
-uint16_t object_material(const json& o, const std::string& f, const Context& ctx) {
+// The object's material. A material with object-space solid textures is copied for the object,
+// its textures re-framed by the inverse of object_to_world, so the pattern moves with the object.
+uint16_t object_material(const json& o, const std::string& f, Context& ctx,
+                         const glm::mat4& object_to_world = glm::mat4(1.0f)) {
   if (!o.contains("material")) fail(f + ".material", "missing");
   const std::string name = get_string(o["material"], f + ".material");
   const auto it = ctx.materials.find(name);
   if (it == ctx.materials.end()) fail(f + ".material", "unknown material '" + name + "'");
-  return it->second;
+  Scene& s = ctx.scene;
+  Material m = s.materials[it->second];
+  bool moved = false;
+  for (uint32_t* slot : {&m.kd_tex, &m.kh_tex, &m.ks_tex, &m.alpha_tex, &m.normal_tex, &m.bump_tex}) {
+    if (*slot == kNoTexture || !ctx.object_space.count(*slot)) continue;
+    Texture t = s.textures[*slot];
+    t.to_texture = t.to_texture * glm::inverse(object_to_world);
+    *slot = uint32_t(s.textures.size());
+    s.textures.push_back(std::move(t));
+    moved = true;
+  }
+  if (!moved) return it->second;
+  if (s.materials.size() >= 65535) fail(f + ".material", "too many materials (at most 65535)");
+  return add_material(s, m);
 }
 
 void check_mesh_size(const Scene& s, size_t more, const std::string& f) {
   if (s.geometry.positions.size() + more > size_t(0xfffffff0u)) fail(f, "scene has too many vertices");
 }
 
-void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t mat) {
+void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t mat,
+                     const glm::mat4& m) {
   check_keys(o, f, {"type", "vertices", "normals", "uvs", "indices", "material", "transform"});
   MeshData mesh;
   const json& v = need(o, f, "vertices");
@@ -214,7 +233,6 @@ void parse_triangles(const json& o, const std::string& f, Context& ctx, uint16_t
     mesh.triangles.push_back(t);
   }
   if (mesh.triangles.empty()) fail(f + ".indices", "empty mesh (no triangles)");
-  const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
   add_mesh(ctx.scene, mesh, m, mat);
 }
 
@@ -227,7 +245,7 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     const Vec3 c = get_vec3(need(o, f, "center"), f + ".center");
     const double r = get_number(need(o, f, "radius"), f + ".radius");
     if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + o["radius"].dump() + ")");
-    add_sphere(s, c, float(r), object_material(o, f, ctx));
+    add_sphere(s, c, float(r), object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), c)));
   } else if (type == "mesh") {
     // OBJ (with its MTL materials when it names one), PLY, glTF or GLB; "material" overrides
     // the file's own materials and is required when the file has none.
@@ -239,23 +257,24 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     if (!mesh) fail(f + ".file", mesh.error().message);
     check_mesh_size(s, mesh->positions.size(), f + ".file");
     const bool override_material = o.contains("material") || mesh->materials.empty();
-    const uint16_t mat = override_material ? object_material(o, f, ctx) : 0;
+    const uint16_t mat = override_material ? object_material(o, f, ctx, m) : 0;
     add_mesh(s, *mesh, m, mat, override_material);
   } else if (type == "triangles") {
-    parse_triangles(o, f, ctx, object_material(o, f, ctx));
+    const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
+    parse_triangles(o, f, ctx, object_material(o, f, ctx, m), m);
   } else if (type == "plane") {
     check_keys(o, f, {"type", "point", "normal", "size", "material"});
     const Vec3 p = get_vec3(need(o, f, "point"), f + ".point");
     const Vec3 n = get_unit(need(o, f, "normal"), f + ".normal");
     const double size = get_number(need(o, f, "size"), f + ".size");
     if (!(size > 0.0)) fail(f + ".size", "must be > 0 (got " + o["size"].dump() + ")");
-    add_quad(s, p, n, float(size), object_material(o, f, ctx));
+    add_quad(s, p, n, float(size), object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), p)));
   } else if (type == "box") {
     check_keys(o, f, {"type", "min", "max", "material"});
     const Vec3 lo = get_vec3(need(o, f, "min"), f + ".min");
     const Vec3 hi = get_vec3(need(o, f, "max"), f + ".max");
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) fail(f, "box min must be below max on every axis");
-    add_box(s, lo, hi, object_material(o, f, ctx));
+    add_box(s, lo, hi, object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi))));
   } else {
     fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, plane or box)");
   }
@@ -269,7 +288,8 @@ void parse_scene(const json& root, Context& ctx) {
   s.ambient = default_hemisphere_ambient();
   if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
   if (root.contains("lights")) parse_lights(root["lights"], s);
-  if (root.contains("textures")) parse_textures(root["textures"], s, ctx.base_dir, ctx.images, ctx.textures);
+  if (root.contains("textures"))
+    parse_textures(root["textures"], s, ctx.base_dir, ctx.images, ctx.textures, ctx.object_space);
   if (root.contains("materials")) {
     const json& mats = require_object(root["materials"], "materials");
     if (mats.size() > 65535) fail("materials", "too many materials (at most 65535)");
@@ -336,7 +356,7 @@ Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const s
   auto scene = std::make_unique<Scene>();
   const size_t slash = path.find_last_of('/');
   scene->name = slash == std::string::npos ? path : path.substr(slash + 1);
-  Context ctx{*scene, {}, base_dir, {}, {}};
+  Context ctx{*scene, {}, base_dir, {}, {}, {}};
   try {
     parse_scene(root, ctx);
   } catch (const Failure& f) {

@@ -67,7 +67,7 @@ void parse_texture_slots(const json& j, const std::string& f, const TextureNames
 }  // namespace
 
 void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageCache& images,
-                    TextureNames& names) {
+                    TextureNames& names, std::set<uint32_t>& object_space) {
   require_object(j, "textures");
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string f = "textures." + it.key();
@@ -107,7 +107,13 @@ void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageC
         fail(f + ".type", "unknown texture '" + type +
                               "' (image, checker, noise, turbulence, marble or wood)");
       check_keys(t, f, {"type", "color_a", "color_b", "frequency", "octaves", "amplitude",
-                        "transform"});
+                        "transform", "space"});
+      if (t.contains("space")) {
+        const std::string space = get_string(t["space"], f + ".space");
+        if (space == "object") object_space.insert(uint32_t(s.textures.size()));
+        else if (space != "world")
+          fail(f + ".space", "must be \"world\" or \"object\" (got '" + space + "')");
+      }
       if (t.contains("color_a")) tex.color_a = get_color(t["color_a"], f + ".color_a");
       if (t.contains("color_b")) tex.color_b = get_color(t["color_b"], f + ".color_b");
       if (t.contains("frequency"))

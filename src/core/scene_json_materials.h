@@ -1,6 +1,7 @@
 // Textures and materials of JSON scene files; loading thread only (throws Failure).
 #pragma once
 #include <map>
+#include <set>
 #include <string>
 
 #include "core/scene.h"
@@ -10,9 +11,10 @@ namespace frameless::scene_json {
 
 using TextureNames = std::map<std::string, uint32_t>;
 
-// The "textures" object: image files (shared through `images`) and procedural solid textures.
+// The "textures" object: image files (shared through `images`) and procedural solid textures;
+// the ids of solid textures with "space": "object" go to object_space.
 void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageCache& images,
-                    TextureNames& names);
+                    TextureNames& names, std::set<uint32_t>& object_space);
 
 // One entry of "materials", with its texture slots resolved by name.
 Material parse_material(const std::string& name, const json& j, const std::string& f,

@@ -218,6 +218,46 @@ TEST(Texturing, JsonTexturesAndTheirErrors) {
       << unknown.error().message;
 }
 
+TEST(Texturing, ObjectSpaceSolidTexturesMoveWithTheirObject) {
+  auto load = [](const char* space) {
+    const std::string text = std::string(R"({"textures": {"m": {"type": "marble", "space": ")") +
+                             space + R"("}}, "materials": {"s": {"class": "diffuse", "kd": 1,
+      "kd_texture": "m"}}, "objects": [
+      {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "s"},
+      {"type": "sphere", "center": [7.3, 0, 0], "radius": 1, "material": "s"}]})";
+    auto r = parse_scene_json(text, "o.json", "/");
+    EXPECT_TRUE(r.ok()) << r.error().message;
+    return std::move(r.value());
+  };
+  // The colour seen at the same spot on each sphere.
+  auto colours = [](const Scene& s) {
+    std::pair<Vec3, Vec3> c;
+    for (int k = 0; k < 2; ++k) {
+      Ray r;
+      r.org = Vec3(7.3f * float(k) + 0.3f, 0.2f, 5.0f);
+      r.dir = Vec3(0, 0, -1);
+      Hit h;
+      EXPECT_TRUE(s.accel.intersect(r, h));
+      SurfacePoint sp = surface_point(s.geometry, r, h);
+      MaterialParams m = s.materials[sp.material];
+      apply_textures(s, r, h, m, sp);
+      (k == 0 ? c.first : c.second) = m.kd;
+    }
+    return c;
+  };
+  auto object = load("object");
+  const auto [a, b] = colours(*object);
+  EXPECT_NEAR(glm::length(a - b), 0.0f, 1e-5f);
+  EXPECT_EQ(object->materials.size(), 3u);  // the named material plus one copy per sphere
+  auto world = load("world");
+  const auto [c, d] = colours(*world);
+  EXPECT_GT(glm::length(c - d), 1e-3f);  // in world space the two spots differ
+  auto bad = parse_scene_json(R"({"textures": {"m": {"type": "wood", "space": "local"}},
+    "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "x"}]})", "o.json", "/");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("textures.m.space"), std::string::npos) << bad.error().message;
+}
+
 TEST(Texturing, JsonSceneReferencesAGltfModelWithTransformAndOverride) {
   const std::string model = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
   if (!std::filesystem::exists(model)) GTEST_SKIP() << "assimp-testmodels not installed";
