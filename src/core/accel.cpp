@@ -319,8 +319,10 @@ inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r
     const __m256 hi = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[2 * a + 1]), o), d);
     far_t = _mm256_add_ps(far_t, _mm256_max_ps(lo, hi));
   }
-  // Empty slots give NaN or -inf here and fail the compare below.
-  const __m256 in_front = _mm256_cmp_ps(far_t, zero, _CMP_GE_OQ);
+  // Boxes wholly behind the apex are out; so are empty slots (lo > hi), whose far_t can be +inf.
+  const __m256 in_front =
+      _mm256_and_ps(_mm256_cmp_ps(far_t, zero, _CMP_GE_OQ),
+                    _mm256_cmp_ps(_mm256_load_ps(n.bounds[0]), _mm256_load_ps(n.bounds[1]), _CMP_LE_OQ));
   // The rounding of far_t and of the slab test is covered by a relative margin.
   const __m256 grow = _mm256_add_ps(
       _mm256_mul_ps(_mm256_set1_ps(tan_half * 1.0001f),

@@ -58,6 +58,10 @@ void parse_texture_slots(const json& j, const std::string& f, const TextureNames
   if (j.contains("opacity")) m.opacity = get_float(j["opacity"], f + ".opacity", 0.0, 1.0, "in [0, 1]");
   if (j.contains("bump_scale"))
     m.bump_scale = get_float(j["bump_scale"], f + ".bump_scale", -1e6, 1e6, "in [-1e6, 1e6]");
+  // Normal and bump maps are looked up by UV: a solid texture there would perturb nothing.
+  for (const auto& [slot, key] : {std::pair{m.normal_tex, "normal_texture"}, std::pair{m.bump_tex, "bump_texture"}})
+    if (slot != kNoTexture && scene.textures[slot].kind != TextureKind::kImage)
+      fail(sub(f, key), "must name an image texture (a solid texture has no UV slope)");
   // Maps of data (alpha, normals, heights) are read as stored, not as sRGB colour.
   for (uint32_t t : {m.alpha_tex, m.normal_tex, m.bump_tex})
     if (t != kNoTexture && scene.textures[t].kind == TextureKind::kImage && scene.textures[t].srgb)

@@ -32,6 +32,7 @@
 #include "core/intersect_triangle.h"
 #include "core/shading.h"
 #include "core/surface.h"
+#include "core/texturing.h"
 
 namespace frameless {
 
@@ -116,7 +117,11 @@ class SoftQuery final : public Accel::ConeVisitor {
     for (int i = 0; i < n_outlines_; ++i) {
       Ray probe = ray_;
       probe.dir = outlines_[i].probe;
-      if (!scene_.accel.occluded(probe)) return edge_visibility(-outlines_[i].x);
+      // With transparent shadows only opaque surfaces close the far side of an outline.
+      const bool open = q_.skip_dielectrics
+                            ? max_component(shadow_transmittance(scene_, probe, false)) > 0.0f
+                            : !scene_.accel.occluded(probe);
+      if (open) return edge_visibility(-outlines_[i].x);
     }
     return 0.0f;
   }
@@ -150,11 +155,14 @@ class SoftQuery final : public Accel::ConeVisitor {
   bool triangle(uint32_t i) {
     const uint16_t m = material_of(g_.triangle_material, i);
     if (skip_material(m)) {
-      // A cut-out occluder casts the hard shadow of its opaque texels.
+      // A cut-out occluder casts the hard shadow of its opaque texels: this triangle alone.
       if (scene_.materials[m].cutout()) {
-        Hit h;
-        Ray r = ray_;
-        if (scene_.accel.intersect(r, h) && h.prim == i) return zero_ = true;
+        const UVec3 t = g_.triangles[i];
+        float th, u, v;
+        if (intersect_triangle(tri_ray_, g_.positions[t.x], g_.positions[t.y], g_.positions[t.z],
+                               0.0f, q_.tmax, th, u, v) &&
+            cutout_opaque(scene_, i, ray_, th, u, v))
+          return zero_ = true;
       }
       return false;
     }
@@ -195,7 +203,8 @@ class SoftQuery final : public Accel::ConeVisitor {
     }
     P2 p[5];
     for (int k = 0; k < n; ++k) {
-      const float d = glm::dot(poly[k], q_.dir);
+      // Clipped corners are recomputed: keep their depth at the near clip despite rounding.
+      const float d = std::max(glm::dot(poly[k], q_.dir), z_min_);
       p[k] = {glm::dot(poly[k], b1_) / d, glm::dot(poly[k], b2_) / d};
     }
     float u, v, th;
@@ -280,8 +289,9 @@ class SoftQuery final : public Accel::ConeVisitor {
     const uint16_t m = material_of(g_.sphere_material, i);
     if (skip_material(m)) {
       if (scene_.materials[m].cutout()) {
-        Hit h;
-        if (scene_.accel.intersect(ray_, h) && h.prim == g_.num_triangles() + i)
+        float th;
+        if (intersect_sphere(q_.org, q_.dir, g_.spheres[i], 0.0f, q_.tmax, th) &&
+            cutout_opaque(scene_, g_.num_triangles() + i, ray_, th, 0.0f, 0.0f))
           return zero_ = true;
       }
       return false;
@@ -290,8 +300,13 @@ class SoftQuery final : public Accel::ConeVisitor {
     const Vec3 w = s.center - q_.org;
     const float dist = glm::length(w);
     const float r = std::fabs(s.radius);
-    // A receiver inside the sphere (its inner surface) sees no light through it.
-    if (!(dist > r)) return zero_ = true;
+    // A receiver inside the sphere (its inner surface) sees no light through it, unless the
+    // light is inside too (the shadow ray then never leaves the sphere).
+    if (!(dist > r)) {
+      float th;
+      if (intersect_sphere(q_.org, q_.dir, s, 0.0f, q_.tmax, th)) return zero_ = true;
+      return false;
+    }
     const float z = glm::dot(w, q_.dir);
     if (z + r <= z_min_ || z - r >= q_.tmax) return false;
     const Vec3 perp = w - z * q_.dir;
@@ -299,7 +314,7 @@ class SoftQuery final : public Accel::ConeVisitor {
     // Clear of the outer sphere (gamma >= alpha + theta) by cosines, before any trigonometry:
     // cos gamma <= cos alpha cos theta - sin alpha sin theta, with a margin for rounding.
     const float sin_a = r / dist, cos_a = std::sqrt(std::max(0.0f, 1.0f - sin_a * sin_a));
-    if (z < (cos_a * cos_theta_ - sin_a * sin_theta_) * dist * (1.0f - 1e-5f)) {
+    if (z < (cos_a * cos_theta_ - sin_a * sin_theta_) * dist - 1e-5f * dist) {
       min_out_ = std::min(min_out_, 1.0f);
       return false;
     }
@@ -363,13 +378,13 @@ float area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng
   Vec3 b1, b2;
   basis(q.dir, b1, b2);
   const float cos_max = std::cos(q.half_angle);
-  // Stratified over the cone's solid angle: rows in cos(theta), columns in azimuth.
-  const int rows = std::max(1, int(std::sqrt(float(samples))));
+  // Stratified over the cone's solid angle in cos(theta) and, through a fixed co-prime
+  // permutation of the strata, in azimuth (a Latin hypercube: unbiased for any count).
+  const int step = samples % 7 == 0 ? 5 : 7;
   int visible = 0;
   for (int k = 0; k < samples; ++k) {
-    const int row = k % rows, col = k / rows, cols = (samples + rows - 1) / rows;
-    const float u1 = (float(row) + rng.next_float()) / float(rows);
-    const float u2 = (float(col) + rng.next_float()) / float(cols);
+    const float u1 = (float(k) + rng.next_float()) / float(samples);
+    const float u2 = (float((k * step) % samples) + rng.next_float()) / float(samples);
     const float cos_t = 1.0f - u1 * (1.0f - cos_max);
     const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
     const float phi = 2.0f * kPi * u2;
@@ -387,35 +402,42 @@ Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque
   Ray r = ray;
   const Geometry& g = scene.geometry;
   const uint32_t nt = g.num_triangles();
-  Vec3 entered(0.0f);
-  const Material* inside = nullptr;
+  // Where the current stretch inside a dielectric began: the ray's origin when it starts inside.
+  Vec3 entered = ray.org;
+  const Vec3 end = std::isfinite(ray.tmax) ? ray.org + ray.tmax * ray.dir : Vec3(0.0f);
+  auto absorb = [&](const MaterialParams& m, const Vec3& from, const Vec3& to) {
+    const float len = glm::length(to - from);
+    for (int c = 0; c < 3; ++c) tr[c] *= std::exp(-m.extinction[c] * len);
+  };
+  const MaterialParams* inside = nullptr;
   // The shadow ray is not bent at interfaces (the usual approximation of transparent shadows).
   for (int crossings = 0; crossings < 64; ++crossings) {
     Hit h;
-    if (!scene.accel.intersect(r, h)) return inside ? Vec3(0.0f) : tr;
+    if (!scene.accel.intersect(r, h)) {
+      // Ends inside a dielectric (a light within glass): absorb up to the end of the ray.
+      if (inside && std::isfinite(ray.tmax)) absorb(*inside, entered, end);
+      return inside && !std::isfinite(ray.tmax) ? Vec3(0.0f) : tr;
+    }
     const uint32_t i = h.prim < nt ? h.prim : h.prim - nt;
     const std::vector<uint16_t>& mats = h.prim < nt ? g.triangle_material : g.sphere_material;
     const Material& m = scene.materials[mats.empty() ? 0 : mats[i]];
     const SurfacePoint sp = surface_point(g, r, h);
     if (m.cls == MaterialClass::kDielectric) {
-      if (inside) {
-        const float len = glm::length(sp.p - entered);
-        for (int c = 0; c < 3; ++c) tr[c] *= std::exp(-inside->extinction[c] * len);
-      }
+      // A back-face hit leaves the medium (even when the ray started inside it).
+      if (!sp.front_face) absorb(m, inside ? entered : ray.org, sp.p);
       // k_t = 1 - k_s at this crossing (Schlick, as in shading).
       const float cos_i = std::fabs(glm::dot(r.dir, sp.ng));
       tr *= 1.0f - schlick(cos_i, r0_from_ior(m.ior));
-      inside = inside ? nullptr : &m;
+      inside = sp.front_face ? &m : nullptr;
       entered = sp.p;
     } else if (!ignore_opaque) {
       return Vec3(0.0f);
     }
     if (max_component(tr) <= 0.0f) return Vec3(0.0f);
     // Continue from just beyond the surface, keeping the same end point.
-    const Vec3 end = r.org + r.tmax * r.dir;
     r.org = offset_ray_origin(sp.p, -sp.ng, sp.scale);
     r.tmin = 0.0f;
-    r.tmax = std::isfinite(r.tmax) ? std::max(0.0f, glm::dot(end - r.org, r.dir)) : kInfinity;
+    r.tmax = std::isfinite(ray.tmax) ? std::max(0.0f, glm::dot(end - r.org, r.dir)) : kInfinity;
     if (!(r.tmax > 0.0f)) return tr;
   }
   return tr;
@@ -425,7 +447,7 @@ void build_triangle_adjacency(Geometry& g) {
   const uint32_t nt = g.num_triangles();
   g.triangle_opposite.assign(nt, UVec3(kInvalidId));
   auto key = [&](uint32_t v) {
-    const Vec3 p = g.positions[v];
+    const Vec3 p = g.positions[v] + Vec3(0.0f);  // -0 and +0 are one position
     uint64_t h = std::bit_cast<uint32_t>(p.x);
     h = h * 0x9e3779b97f4a7c15ull ^ std::bit_cast<uint32_t>(p.y);
     h = h * 0x9e3779b97f4a7c15ull ^ std::bit_cast<uint32_t>(p.z);

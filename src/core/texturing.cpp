@@ -14,7 +14,8 @@ uint16_t material_id(const Geometry& g, uint32_t prim) {
   return mats.empty() ? 0 : mats[i];
 }
 
-// Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later).
+// Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later),
+// negated on mirrored UVs (the caller then flips the tangent-space x back).
 Vec3 triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
   const UVec3 t = g.triangles[prim];
   const Vec3 e1 = g.positions[t.y] - g.positions[t.x], e2 = g.positions[t.z] - g.positions[t.x];
@@ -23,7 +24,8 @@ Vec3 triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
     const float det = d1.x * d2.y - d1.y * d2.x;
     if (std::fabs(det) > 1e-20f) {
       const Vec3 dpdu = (d2.y * e1 - d1.y * e2) / det;
-      if (is_finite(dpdu) && glm::dot(dpdu, dpdu) > 0.0f) return dpdu;
+      // det < 0: the UVs are mirrored on this triangle, so dp/dv runs against n x dp/du.
+      if (is_finite(dpdu) && glm::dot(dpdu, dpdu) > 0.0f) return det < 0.0f ? -dpdu : dpdu;
     }
   }
   // No usable UVs: any tangent in the plane.
@@ -75,7 +77,8 @@ Vec2 hit_uv(const Geometry& g, const Ray& ray, const Hit& hit) {
   const float len = glm::length(d);
   if (!(len > 0.0f)) return Vec2(0.0f);
   const Vec3 n = d / len;
-  const float u = 0.5f + std::atan2(n.z, n.x) / (2.0f * kPi);
+  // u grows eastward seen from outside (toward -z from +x), so images are not mirrored.
+  const float u = 0.5f + std::atan2(-n.z, n.x) / (2.0f * kPi);
   const float v = std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi;
   return Vec2(u, 1.0f - v);
 }
@@ -91,19 +94,32 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
   if (m.ks_tex != kNoTexture) m.ks *= Vec3(sample_texture(tex[m.ks_tex], at));
   if (m.normal_tex == kNoTexture && m.bump_tex == kNoTexture) return;
   const uint32_t nt = scene.geometry.num_triangles();
+  // The frame is built on the outward normal, so a surface seen from behind is perturbed the
+  // same way as from the front (then turned to the viewer's side below).
+  const Vec3 outward = sp.front_face ? sp.ng : -sp.ng;
+  const Vec3 ns_out = sp.front_face ? sp.ns : -sp.ns;
   Vec3 dpdu;
+  float mirror_x = 1.0f;
   if (hit.prim < nt) {
-    dpdu = triangle_dpdu(scene.geometry, hit.prim, sp.ng);
+    const Vec3 raw = triangle_dpdu(scene.geometry, hit.prim, outward);
+    const UVec3 tri = scene.geometry.triangles[hit.prim];
+    if (!scene.geometry.uvs.empty()) {
+      const Vec2 d1 = scene.geometry.uvs[tri.y] - scene.geometry.uvs[tri.x];
+      const Vec2 d2 = scene.geometry.uvs[tri.z] - scene.geometry.uvs[tri.x];
+      if (d1.x * d2.y - d1.y * d2.x < 0.0f) mirror_x = -1.0f;
+    }
+    dpdu = raw;
   } else {
-    dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), sp.ng);  // along increasing longitude
+    dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
     if (!(glm::dot(dpdu, dpdu) > 0.0f)) dpdu = Vec3(1.0f, 0.0f, 0.0f);
   }
   Vec3 n = sp.ns;
   if (m.normal_tex != kNoTexture) {
     // Tangent-space normal map: texel in [0, 1] encodes [-1, 1].
     const Vec4 texel = sample_texture(tex[m.normal_tex], at);
-    const Vec3 t = 2.0f * Vec3(texel) - Vec3(1.0f);
-    n = to_world(t, sp.ns, dpdu);
+    Vec3 t = 2.0f * Vec3(texel) - Vec3(1.0f);
+    t.x *= mirror_x;
+    n = to_world(t, ns_out, dpdu);
   } else {
     // Bump map: the height's finite-difference slopes tilt the normal (Blinn 1978).
     const Texture& b = tex[m.bump_tex];
@@ -116,14 +132,19 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
     const float h0 = sample_texture(b, at).x;
     const float su = (sample_texture(b, au).x - h0) / du * m.bump_scale * 0.01f;
     const float sv = (sample_texture(b, av).x - h0) / dv * m.bump_scale * 0.01f;
-    n = to_world(Vec3(-su, -sv, 1.0f), sp.ns, dpdu);
+    n = to_world(Vec3(-su * mirror_x, -sv, 1.0f), ns_out, dpdu);
   }
+  if (!sp.front_face) n = -n;
   const float len = glm::length(n);
   if (!(len > 0.0f) || !std::isfinite(len)) return;
   n /= len;
   // Keep the perturbed normal on the viewer's side of the true surface.
   if (glm::dot(n, sp.ng) <= 0.0f) return;
   sp.ns = n;
+}
+
+bool cutout_opaque(const Scene& scene, uint32_t prim, const Ray& ray, float t, float u, float v) {
+  return alpha_opaque(&scene, prim, ray, t, u, v);
 }
 
 void install_alpha_test(Scene& scene) {

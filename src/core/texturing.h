@@ -14,6 +14,9 @@ Vec2 hit_uv(const Geometry& geom, const Ray& ray, const Hit& hit);
 void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
                     SurfacePoint& sp);
 
+// Whether a hit (t, barycentrics u, v) on primitive prim is on an opaque part of its surface.
+bool cutout_opaque(const Scene& scene, uint32_t prim, const Ray& ray, float t, float u, float v);
+
 // Installs the cut-out test in the scene's accel when some material has one (finalize_scene).
 void install_alpha_test(Scene& scene);
 

@@ -242,5 +242,69 @@ TEST(SoftShadow, DirectionalLightCastsSunShadows) {
   EXPECT_LT(soft_visibility(*s, q), 1.0f);
 }
 
+TEST(SoftShadow, ObliqueSunOverAPartlyFilledBvh) {
+  // BVH nodes with empty slots and a sun whose direction has no zero component: the cone's box
+  // test must skip the empty slots even though its growth is unbounded (tmax is infinite).
+  auto s = testing::make_empty_scene();
+  s->materials.push_back(Material{});
+  add_horizontal_quad(s->geometry, 0.0f, 20.0f, 0);
+  for (int i = 0; i < 5; ++i) testing::add_sphere(s->geometry, Vec3(float(i) * 2.5f - 5.0f, 1.5f, 0.0f), 0.8f, 0);
+  Light sun;
+  sun.kind = LightKind::kDirectional;
+  sun.direction = glm::normalize(Vec3(-0.3f, -1.0f, -0.2f));
+  sun.angular_radius = glm::radians(3.0f);
+  s->lights.push_back(sun);
+  finalize_scene(*s);
+  ShadowQuery q;
+  q.dir = -sun.direction;
+  q.half_angle = sun.angular_radius;
+  q.tan_half = std::tan(q.half_angle);
+  int dark = 0, lit = 0;
+  for (int i = 0; i < 200; ++i) {
+    q.org = Vec3(-8.0f + 0.08f * float(i), 0.001f, 0.1f);
+    const float v = soft_visibility(*s, q);
+    ASSERT_GE(v, 0.0f);
+    ASSERT_LE(v, 1.0f);
+    dark += v == 0.0f;
+    lit += v == 1.0f;
+  }
+  // The spheres' shadows fall on this line (offset along the sun's slant), with lit ground between.
+  EXPECT_GT(dark, 10);
+  EXPECT_GT(lit, 10);
+}
+
+TEST(SoftShadow, LightInsideASphereStillLightsItsInside) {
+  // A dome: a big sphere seen from inside with the light inside it too.
+  auto s = testing::make_empty_scene();
+  s->materials.push_back(Material{});
+  testing::add_sphere(s->geometry, Vec3(0.0f), 10.0f, 0);
+  finalize_scene(*s);
+  // From a point on the inner surface toward a light of radius 1 at the centre.
+  EXPECT_EQ(soft_visibility(*s, query_to(Vec3(0.0f, -9.99f, 0.0f), Vec3(0.0f), 1.0f)), 1.0f);
+  // From outside the sphere the same light is hidden.
+  EXPECT_EQ(soft_visibility(*s, query_to(Vec3(0.0f, -12.0f, 0.0f), Vec3(0.0f), 1.0f)), 0.0f);
+}
+
+TEST(SoftShadow, TransmittanceFromInsideGlass) {
+  auto s = testing::make_empty_scene();
+  Material glass;
+  glass.cls = MaterialClass::kDielectric;
+  glass.extinction = Vec3(1.0f);
+  s->materials.push_back(glass);
+  testing::add_sphere(s->geometry, Vec3(0.0f), 2.0f, 0);
+  finalize_scene(*s);
+  // Starting at the centre, leaving once: Beer's law over the radius, one interface.
+  Ray r;
+  r.org = Vec3(0.0f);
+  r.dir = Vec3(0, 1, 0);
+  r.tmax = 10.0f;
+  const float kt = 1.0f - 0.04f;
+  EXPECT_NEAR(shadow_transmittance(*s, r, false).x, kt * std::exp(-2.0f), 1e-3f);
+  // From outside to a light inside the glass: one interface, absorption up to the light.
+  r.org = Vec3(0.0f, -5.0f, 0.0f);
+  r.tmax = 4.0f;  // ends at y = -1, one unit inside
+  EXPECT_NEAR(shadow_transmittance(*s, r, false).x, kt * std::exp(-1.0f), 1e-3f);
+}
+
 }  // namespace
 }  // namespace frameless
