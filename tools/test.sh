@@ -2,7 +2,7 @@
 # Builds and runs every test: Release suite, then ASan+UBSan (all but the concurrency suites),
 # then ThreadSanitizer (engine and exchange suites), then the scene/mesh parser fuzzer for a bounded time.
 # Usage: tools/test.sh [--quick]   (--quick: Release suite only)
-# Env: FRAMELESS_FUZZ_SECONDS (default 90), FRAMELESS_LONG_TESTS=1 for long stress runs.
+# Env: FRAMELESS_FUZZ_SECONDS (default 60), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -20,23 +20,23 @@ tools/build.sh build/release
 
 section "ASan+UBSan build and tests (core, display, cli; the concurrency suites run under TSan)"
 tools/build.sh build/asan -DFRAMELESS_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- core_tests display_tests cli_tests frameless
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests display_tests cli_tests frameless
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
   ctest -j"$jobs" --output-on-failure -LE 'engine|exchange' -E '_NOT_BUILT$')
 
 section "ThreadSanitizer build and tests (engine and render -> display -> consumer exchange)"
 tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g' -- engine_tests exchange_tests
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   ctest -j"$jobs" --output-on-failure -L 'engine|exchange')
 
 if [ -f tests/fuzz/CMakeLists.txt ]; then
-  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-90} s)"
+  section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-60} s)"
   tools/build.sh build/fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
     -DFRAMELESS_FUZZ=ON -DFRAMELESS_TESTS=ON -- scene_fuzzer
   mkdir -p build/fuzz/corpus
-  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-90}" \
+  build/fuzz/tests/fuzz/scene_fuzzer -max_total_time="${FRAMELESS_FUZZ_SECONDS:-60}" \
     -rss_limit_mb=2048 -max_len=65536 build/fuzz/corpus tests/fuzz/corpus 2>build/fuzz/fuzz.log ||
     { tail -50 build/fuzz/fuzz.log; exit 1; }
   echo "fuzzer: $(grep -c . build/fuzz/fuzz.log) log lines, no crash"
