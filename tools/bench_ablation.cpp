@@ -76,17 +76,6 @@ bool bit_identical(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-// One-shot render on this thread alone, timed by its CPU time (robust on a shared machine).
-std::vector<float> render_timed(const Scene& s, int w, int h, int spp, double& cpu) {
-  TileRenderOptions o;
-  o.spp = spp;
-  o.threads = 1;
-  const double t0 = thread_cpu_seconds();
-  RenderedImage img = render_tiles(s, make_camera_basis(s.camera, w, h), o);
-  cpu = thread_cpu_seconds() - t0;
-  return std::move(img.rgb);
-}
-
 // A per-sample skip: renders with `on` and `off` settings alternately, median CPU time of each.
 Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(SkipConfig&)>& off,
                    const AblationArgs& a, int w, int h, double tolerance) {
@@ -110,7 +99,7 @@ Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(S
     for (int j = 0; j < 2; ++j) {
       const bool on = (j == 0) == (k % 2 == 0);
       s.settings.skips = on ? on_cfg : off_cfg;
-      (on ? img_on : img_off) = render_timed(s, w, h, a.spp, t);
+      (on ? img_on : img_off) = render_one_thread(s, w, h, a.spp, t);
       (on ? t_on : t_off).push_back(t);
     }
   s.settings.skips = on_cfg;

@@ -1,6 +1,9 @@
 // Shared helpers of the benchmarks: descriptions, atomic JSON/CSV, gnuplot, memory and CPU probes.
 #include "tools/bench_report.h"
 
+#include "frameless/cpu_clock.h"
+#include "frameless/tile_render.h"
+
 #include <sys/utsname.h>
 
 #include <time.h>
@@ -262,6 +265,16 @@ double fit_slope(const std::vector<double>& x, const std::vector<double>& y, dou
   if (intercept) *intercept = my - b * mx;
   if (r2) *r2 = (sxx > 0 && syy > 0) ? (sxy * sxy) / (sxx * syy) : 1.0;
   return b;
+}
+
+std::vector<float> render_one_thread(const Scene& s, int w, int h, int spp, double& cpu_seconds) {
+  TileRenderOptions o;
+  o.spp = spp;
+  o.threads = 1;
+  const double t0 = thread_cpu_seconds();
+  RenderedImage img = render_tiles(s, make_camera_basis(s.camera, w, h), o);
+  cpu_seconds = thread_cpu_seconds() - t0;
+  return std::move(img.rgb);
 }
 
 }  // namespace frameless::cli

@@ -56,6 +56,10 @@ double peak_rss_bytes();
 double process_cpu_seconds();
 // Sleeps the calling thread for `seconds`.
 void sleep_s(double seconds);
+// One image of `s` rendered on the calling thread alone; cpu_seconds receives that thread's CPU
+// time (robust on a shared machine). Returns the RGB floats.
+std::vector<float> render_one_thread(const Scene& s, int w, int h, int spp, double& cpu_seconds);
+
 // Median of the non-NaN values (mean of the middle two for an even count); NaN when none.
 double median(std::vector<double> values);
 

@@ -29,16 +29,6 @@ struct ShadowBenchArgs {
   std::string out;
 };
 
-// One image on this thread alone, timed by its CPU time (robust on a shared machine).
-std::vector<float> render_cpu(const Scene& s, int w, int h, int spp, double& cpu) {
-  TileRenderOptions o;
-  o.spp = spp;
-  o.threads = 1;
-  const double t0 = thread_cpu_seconds();
-  RenderedImage img = render_tiles(s, make_camera_basis(s.camera, w, h), o);
-  cpu = thread_cpu_seconds() - t0;
-  return std::move(img.rgb);
-}
 
 struct Variant {
   const char* name;
@@ -82,7 +72,7 @@ int run_shadows(const ShadowBenchArgs& a) {
     bench_progress("shadows", spec + ": area reference");
     set_shadow_settings(*scene, ShadowMode::kArea, a.reference_samples, false);
     double unused = 0;
-    const std::vector<float> reference = render_cpu(*scene, w, h, a.spp, unused);
+    const std::vector<float> reference = render_one_thread(*scene, w, h, a.spp, unused);
     std::vector<std::vector<double>> times(std::size(variants));
     std::vector<std::vector<float>> images(std::size(variants));
     // Variants interleave within each repeat (no drift bias between them).
@@ -94,7 +84,7 @@ int run_shadows(const ShadowBenchArgs& a) {
         if (var.ambient != AmbientKind::kNone) scene->ambient.kind = var.ambient;
         set_shadow_settings(*scene, var.mode, 16, var.transparent);
         double t = 0;
-        images[v] = render_cpu(*scene, w, h, a.spp, t);
+        images[v] = render_one_thread(*scene, w, h, a.spp, t);
         times[v].push_back(t);
       }
     scene->ambient = original;

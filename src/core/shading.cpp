@@ -84,23 +84,7 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
   }
   // One stream per shadow query of the sample: no generator is set up on paths that need none.
   Rng rng(mix64(c.rng_seed + c.draws++));
-  if (!st.transparent_shadows) return Vec3(area_visibility(c.scene, q, st.shadow_samples, rng));
-  // Transparent area shadows: the mean transmittance of the sample rays.
-  Vec3 sum(0.0f);
-  const int n = std::max(1, st.shadow_samples);
-  for (int k = 0; k < n; ++k) {
-    Rng sub(rng.next_u32());
-    // One stratum's direction from the area sampler, then its transmittance.
-    const Vec3 b1 = glm::normalize(glm::cross(l, std::fabs(l.x) > 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
-    const Vec3 b2 = glm::cross(l, b1);
-    const float cos_max = std::cos(half_angle);
-    const float cos_t = 1.0f - (float(k) + sub.next_float()) / float(n) * (1.0f - cos_max);
-    const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
-    const float phi = 2.0f * kPi * sub.next_float();
-    ray.dir = glm::normalize(cos_t * l + sin_t * (std::cos(phi) * b1 + std::sin(phi) * b2));
-    sum += shadow_transmittance(c.scene, ray, false);
-  }
-  return sum / float(n);
+  return area_visibility(c.scene, q, st.shadow_samples, rng);
 }
 
 // Calls f(s l_e, l, n.l) for each light that faces the surface and is not fully shadowed.

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numeric>
 #include <unordered_map>
 
 #include "core/intersect_sphere.h"
@@ -373,15 +374,16 @@ float soft_visibility(const Scene& scene, const ShadowQuery& q) {
   return query.finish();
 }
 
-float area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng) {
+Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng) {
   samples = std::max(1, samples);
   Vec3 b1, b2;
   basis(q.dir, b1, b2);
   const float cos_max = std::cos(q.half_angle);
   // Stratified over the cone's solid angle in cos(theta) and, through a fixed co-prime
   // permutation of the strata, in azimuth (a Latin hypercube: unbiased for any count).
-  const int step = samples % 7 == 0 ? 5 : 7;
-  int visible = 0;
+  int step = 7;
+  while (std::gcd(step, samples) != 1) ++step;
+  Vec3 visible(0.0f);
   for (int k = 0; k < samples; ++k) {
     const float u1 = (float(k) + rng.next_float()) / float(samples);
     const float u2 = (float((k * step) % samples) + rng.next_float()) / float(samples);
@@ -392,9 +394,10 @@ float area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng
     r.org = q.org;
     r.dir = glm::normalize(cos_t * q.dir + sin_t * (std::cos(phi) * b1 + std::sin(phi) * b2));
     r.tmax = q.tmax;
-    if (!scene.accel.occluded(r)) ++visible;
+    if (q.skip_dielectrics) visible += shadow_transmittance(scene, r, false);
+    else if (!scene.accel.occluded(r)) visible += Vec3(1.0f);
   }
-  return float(visible) / float(samples);
+  return visible / float(samples);
 }
 
 Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque) {

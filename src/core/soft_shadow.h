@@ -27,8 +27,9 @@ float edge_visibility(float x);
 // Single-sample soft shadow s in [0, 1] for one light: one cone query over the BVH.
 float soft_visibility(const Scene& scene, const ShadowQuery& q);
 
-// Area-sampled reference: `samples` rays spread (stratified) over the cone, fraction unblocked.
-float area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng);
+// Area-sampled reference: `samples` rays spread (stratified) over the cone; the fraction
+// unblocked, or with q.skip_dielectrics (transparent shadows) their mean transmittance.
+Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng);
 
 // Transmittance along a shadow ray through dielectrics (k_t at each interface, Beer's law
 // inside): 0 when an opaque surface blocks it, unless ignore_opaque (soft mode leaves opaque

@@ -14,9 +14,13 @@ uint16_t material_id(const Geometry& g, uint32_t prim) {
   return mats.empty() ? 0 : mats[i];
 }
 
-// Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later),
-// negated on mirrored UVs (the caller then flips the tangent-space x back).
-Vec3 triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
+// Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later)
+// and its handedness: -1 where the UVs are mirrored, so dp/dv runs against n x dp/du.
+struct UvTangent {
+  Vec3 dpdu;
+  float handedness = 1.0f;
+};
+UvTangent triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
   const UVec3 t = g.triangles[prim];
   const Vec3 e1 = g.positions[t.y] - g.positions[t.x], e2 = g.positions[t.z] - g.positions[t.x];
   if (!g.uvs.empty()) {
@@ -24,13 +28,13 @@ Vec3 triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
     const float det = d1.x * d2.y - d1.y * d2.x;
     if (std::fabs(det) > 1e-20f) {
       const Vec3 dpdu = (d2.y * e1 - d1.y * e2) / det;
-      // det < 0: the UVs are mirrored on this triangle, so dp/dv runs against n x dp/du.
-      if (is_finite(dpdu) && glm::dot(dpdu, dpdu) > 0.0f) return det < 0.0f ? -dpdu : dpdu;
+      if (is_finite(dpdu) && glm::dot(dpdu, dpdu) > 0.0f)
+        return {dpdu, det < 0.0f ? -1.0f : 1.0f};
     }
   }
   // No usable UVs: any tangent in the plane.
   const Vec3 helper = std::fabs(ng.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  return glm::cross(helper, ng);
+  return {glm::cross(helper, ng), 1.0f};
 }
 
 // Shading normal from a tangent-space vector (x along dp/du, y along dp/dv, z along n).
@@ -98,28 +102,20 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
   // same way as from the front (then turned to the viewer's side below).
   const Vec3 outward = sp.front_face ? sp.ng : -sp.ng;
   const Vec3 ns_out = sp.front_face ? sp.ns : -sp.ns;
-  Vec3 dpdu;
-  float mirror_x = 1.0f;
+  UvTangent frame;
   if (hit.prim < nt) {
-    const Vec3 raw = triangle_dpdu(scene.geometry, hit.prim, outward);
-    const UVec3 tri = scene.geometry.triangles[hit.prim];
-    if (!scene.geometry.uvs.empty()) {
-      const Vec2 d1 = scene.geometry.uvs[tri.y] - scene.geometry.uvs[tri.x];
-      const Vec2 d2 = scene.geometry.uvs[tri.z] - scene.geometry.uvs[tri.x];
-      if (d1.x * d2.y - d1.y * d2.x < 0.0f) mirror_x = -1.0f;
-    }
-    dpdu = raw;
+    frame = triangle_dpdu(scene.geometry, hit.prim, outward);
   } else {
-    dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
-    if (!(glm::dot(dpdu, dpdu) > 0.0f)) dpdu = Vec3(1.0f, 0.0f, 0.0f);
+    frame.dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
+    if (!(glm::dot(frame.dpdu, frame.dpdu) > 0.0f)) frame.dpdu = Vec3(1.0f, 0.0f, 0.0f);
   }
   Vec3 n = sp.ns;
   if (m.normal_tex != kNoTexture) {
     // Tangent-space normal map: texel in [0, 1] encodes [-1, 1].
     const Vec4 texel = sample_texture(tex[m.normal_tex], at);
     Vec3 t = 2.0f * Vec3(texel) - Vec3(1.0f);
-    t.x *= mirror_x;
-    n = to_world(t, ns_out, dpdu);
+    t.y *= frame.handedness;
+    n = to_world(t, ns_out, frame.dpdu);
   } else {
     // Bump map: the height's finite-difference slopes tilt the normal (Blinn 1978).
     const Texture& b = tex[m.bump_tex];
@@ -132,7 +128,7 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
     const float h0 = sample_texture(b, at).x;
     const float su = (sample_texture(b, au).x - h0) / du * m.bump_scale * 0.01f;
     const float sv = (sample_texture(b, av).x - h0) / dv * m.bump_scale * 0.01f;
-    n = to_world(Vec3(-su * mirror_x, -sv, 1.0f), ns_out, dpdu);
+    n = to_world(Vec3(-su, -sv * frame.handedness, 1.0f), ns_out, frame.dpdu);
   }
   if (!sp.front_face) n = -n;
   const float len = glm::length(n);
