@@ -14,7 +14,7 @@ start=$(date +%s)
 section() { printf '\n=== %s (at %ds) ===\n' "$*" $(($(date +%s) - start)); }
 
 section "Release build and tests"
-tools/build.sh build/release
+tools/build.sh build/release -DFRAMELESS_TESTS=ON
 (cd build/release && ctest -j"$jobs" --output-on-failure)
 [ $quick = 1 ] && exit 0
 
