@@ -1,4 +1,5 @@
 // `frameless render`: one-shot render of a scene to EXR (half RGB, Z, N, sample count) and PNG.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -23,6 +24,7 @@ struct RenderArgs {
   std::string png;
   bool no_jitter = false;
   int threads = 0;
+  double time = 0.0;
   CameraFlags camera;
 };
 
@@ -54,6 +56,8 @@ int run_render(const RenderArgs& a) {
   o.spp = a.spp > 0 ? a.spp : scene->settings.spp;
   o.threads = a.threads > 0 ? a.threads : hardware_threads();
   o.jitter = !a.no_jitter;
+  if (!std::isfinite(a.time)) return report_error("--time: must be a finite number of seconds");
+  o.time = a.time;
   if (show_progress())
     o.progress = [](double f) {
       std::fprintf(stderr, "\rrendering %5.1f%%", 100.0 * f);
@@ -96,6 +100,7 @@ const bool registered = register_command(
       app.add_option("--png", a->png, "also write an sRGB PNG here");
       app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
       app.add_option("--threads", a->threads, "render threads (default: all cores)");
+      app.add_option("--time", a->time, "seconds: the instant moving objects are shown at (default 0)");
       a->camera.add_to(app);
       app.footer(std::string("Scenes: ") + builtin_scene_help());
       return [a] { return run_render(*a); };

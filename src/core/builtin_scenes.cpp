@@ -94,46 +94,6 @@ std::unique_ptr<Scene> make_default() {
   return s;
 }
 
-// Parker's bouncing balls: a 6 x 6 grid of coloured balls over a floor, each bouncing with its
-// own height and period.
-constexpr int kBallGrid = 6;
-constexpr float kBallRadius = 0.4f;
-constexpr float kBallSpacing = 1.2f;
-
-struct Bounce {
-  float x, z, height, period, phase;
-};
-
-Bounce ball_motion(int i) {
-  Rng rng(0xba11u + uint64_t(i));
-  const int gx = i % kBallGrid, gz = i / kBallGrid;
-  const float off = 0.5f * float(kBallGrid - 1) * kBallSpacing;
-  return Bounce{float(gx) * kBallSpacing - off, float(gz) * kBallSpacing - off,
-                0.4f + 1.6f * rng.next_float(), 0.6f + 0.8f * rng.next_float(), rng.next_float()};
-}
-
-std::unique_ptr<Scene> make_balls() {
-  auto s = std::make_unique<Scene>();
-  s->name = "balls";
-  const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.65f)));
-  add_quad(*s, Vec3(0.0f), Vec3(0, 1, 0), 20.0f, floor);
-  const Vec3 colours[6] = {{0.85f, 0.20f, 0.15f}, {0.95f, 0.70f, 0.15f}, {0.20f, 0.65f, 0.25f},
-                           {0.15f, 0.35f, 0.85f}, {0.60f, 0.25f, 0.75f}, {0.90f, 0.90f, 0.88f}};
-  uint16_t mats[6];
-  for (int k = 0; k < 6; ++k)
-    mats[k] = k % 3 == 2 ? add_material(*s, metal("ball", colours[k], 150.0f))
-                         : add_material(*s, polished("ball", colours[k], 0.05f));
-  const std::vector<Sphere> balls = bouncing_balls_at(0.0);
-  for (size_t i = 0; i < balls.size(); ++i)
-    add_sphere(*s, balls[i].center, balls[i].radius, mats[(i * 7) % 6]);
-  s->lights.push_back(Light{Vec3(-4.0f, 9.0f, 6.0f), Vec3(0.9f), 0.0f});
-  s->ambient = default_hemisphere_ambient();
-  s->camera.eye = Vec3(0.0f, 6.0f, 10.0f);
-  s->camera.look = Vec3(0.0f, 0.6f, 0.0f);
-  s->camera.fov_deg = 45.0f;
-  return s;
-}
-
 Result<uint64_t> parse_count(std::string_view text, const std::string& spec, const char* what) {
   uint64_t v = 0;
   const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
@@ -171,14 +131,15 @@ Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
   const uint64_t count = *n;
   const float side = std::cbrt(float(count));
   Geometry& g = s->geometry;
-  g.spheres.resize(count);
-  g.sphere_material.resize(count);
+  // Exactly N each (no growth, no copies; the in-place sphere BVH build adds only its nodes).
+  g.spheres.reserve(count);
+  g.sphere_material.reserve(count);
   Rng rng(seed);
   for (uint64_t i = 0; i < count; ++i) {
     const float x = rng.next_float(), y = rng.next_float(), z = rng.next_float();
     const float r = 0.1f + 0.2f * rng.next_float();
-    g.spheres[i] = Sphere{side * (Vec3(x, y, z) - 0.5f), r};
-    g.sphere_material[i] = mats[rng.next_u32() & 7u];
+    g.spheres.push_back(Sphere{side * (Vec3(x, y, z) - 0.5f), r});
+    g.sphere_material.push_back(mats[rng.next_u32() & 7u]);
   }
   Vec3 lo, hi;
   scene_bounds(g, lo, hi);
@@ -208,19 +169,6 @@ Result<std::unique_ptr<Scene>> make_bunny() {
 }
 
 }  // namespace
-
-std::vector<Sphere> bouncing_balls_at(double t) {
-  std::vector<Sphere> balls;
-  balls.reserve(kBallGrid * kBallGrid);
-  for (int i = 0; i < kBallGrid * kBallGrid; ++i) {
-    const Bounce b = ball_motion(i);
-    // |sin| gives the parabola-like bounce; phase keeps the t = 0 picture varied.
-    const double arg = kPi * (t / double(b.period) + double(b.phase));
-    const float y = kBallRadius + b.height * float(std::fabs(std::sin(arg)));
-    balls.push_back(Sphere{Vec3(b.x, y, b.z), kBallRadius});
-  }
-  return balls;
-}
 
 Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   Result<std::unique_ptr<Scene>> scene = Error{""};

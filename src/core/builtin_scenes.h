@@ -10,9 +10,9 @@
 
 namespace frameless {
 
-// Where the bouncing balls are at time t seconds (t = 0 is the configuration that
-// make_builtin_scene("balls") shows). Same count and order as the scene's spheres.
-std::vector<Sphere> bouncing_balls_at(double t);
+// Parker's bouncing balls (figure 2; builtin_balls.cpp): dynamic spheres moved by a baked
+// physics simulation (core/motion.h), soft shadows from a spherical light. Not yet finalized.
+std::unique_ptr<Scene> make_balls();
 
 // Largest N that "spheres:N" accepts.
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;

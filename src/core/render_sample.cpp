@@ -8,14 +8,14 @@
 namespace frameless {
 
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
-                          uint64_t rng_seed) {
+                          uint64_t rng_seed, const DynamicFrame* frame) {
   const Ray ray = camera_ray(camera, px, py);
   SampleResult out;
   Hit hit;
   SurfacePoint sp;
   // The shading path is chosen once per sample from the scene's features and skips.
-  out.color = trace_radiance_path(scene, shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp,
-                                  rng_seed);
+  out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp,
+                                  rng_seed, frame);
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;
@@ -32,7 +32,7 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
 }
 
 SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x, int y,
-                           uint32_t sample_index, bool jitter) {
+                           uint32_t sample_index, bool jitter, const DynamicFrame* frame) {
   const uint64_t seed = sample_seed(uint32_t(x), uint32_t(y), sample_index, scene.settings.seed);
   float jx = 0.5f, jy = 0.5f;
   if (jitter) {
@@ -41,7 +41,7 @@ SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x,
     jy = rng.next_float();
   }
   // A distinct stream for shading, so jitter and shading choices never share numbers.
-  return trace_sample(scene, camera, float(x) + jx, float(y) + jy, mix64(seed ^ 0x5bd1e995ull));
+  return trace_sample(scene, camera, float(x) + jx, float(y) + jy, mix64(seed ^ 0x5bd1e995ull), frame);
 }
 
 }  // namespace frameless

@@ -14,13 +14,15 @@ struct SampleResult {
 };
 
 // Traces the primary ray through continuous image position (px, py); rng_seed drives any
-// stochastic choice inside shading.
+// stochastic choice inside shading. frame: the moving objects, lights and materials at the
+// sample's instant (core/dynamic.h); null renders the scene as loaded, without dynamic objects.
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
-                          uint64_t rng_seed);
+                          uint64_t rng_seed, const DynamicFrame* frame = nullptr);
 
 // Sample `sample_index` of pixel (x, y): jitter offset and rng seed derived from
 // (x, y, sample_index, scene.settings.seed). jitter=false samples the pixel centre.
 SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x, int y,
-                           uint32_t sample_index, bool jitter = true);
+                           uint32_t sample_index, bool jitter = true,
+                           const DynamicFrame* frame = nullptr);
 
 }  // namespace frameless

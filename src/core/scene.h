@@ -6,6 +6,7 @@
 
 #include "core/accel.h"
 #include "core/camera.h"
+#include "core/dynamic.h"
 #include "core/geometry.h"
 #include "core/light.h"
 #include "core/material.h"
@@ -54,6 +55,7 @@ struct SceneFeatures {
   bool has_textures = false;     // some material has a texture slot: hits compute UVs
   bool has_cutouts = false;      // some material has an alpha cut-out: traversal tests alpha
   bool has_soft_lights = false;  // some light has an extent and shadows are soft or area
+  bool has_dynamic = false;      // some object moves: rays also test Scene::dynamic
 };
 
 struct Scene {
@@ -68,7 +70,21 @@ struct Scene {
   RenderSettings settings;
   SceneFeatures features;
   Accel accel;
+  // Objects that move (seed section 4): outside `accel`, tested per ray (core/dynamic.h).
+  std::vector<DynamicObject> dynamic;
 };
+
+// Material parameters in effect for a sample: the frame's (changed while you look) or the scene's.
+inline const MaterialParams& frame_material(const Scene& scene, const DynamicFrame* frame,
+                                            uint16_t id) {
+  if (frame && id < frame->materials.size()) return frame->materials[id];
+  return scene.materials[id];
+}
+
+// Lights in effect for a sample.
+inline const std::vector<Light>& frame_lights(const Scene& scene, const DynamicFrame* frame) {
+  return frame && frame->lights.size() == scene.lights.size() ? frame->lights : scene.lights;
+}
 
 // Builds the acceleration structure and analyses features. Call once after loading.
 void finalize_scene(Scene& scene, const AccelConfig& config = {});

@@ -9,7 +9,8 @@ SceneFeatures analyse_scene(const Scene& scene) {
   SceneFeatures f;
   // A black light adds nothing and casts no visible shadow (s l_e = 0 either way): not a light.
   for (const Light& l : scene.lights) f.has_lights |= glm::dot(l.color, l.color) > 0.0f;
-  f.has_spheres = !scene.geometry.spheres.empty();
+  f.has_spheres = !scene.geometry.spheres.empty() || !scene.dynamic.empty();
+  f.has_dynamic = !scene.dynamic.empty();
   f.has_triangles = !scene.geometry.triangles.empty();
   f.has_vertex_normals = !scene.geometry.normals.empty();
   f.has_ambient = scene.ambient.kind != AmbientKind::kNone;
@@ -38,6 +39,18 @@ uint32_t shade_path(const SceneFeatures& f, const SkipConfig& skips) {
   // Without lights no lobe is ever evaluated, so the highlight code goes with the light loop.
   if (skips.highlights && (!f.has_highlights || !(bits & kShadeLights))) bits &= ~kShadeHighlights;
   return bits;
+}
+
+uint32_t frame_shade_path(const Scene& scene, const DynamicFrame& frame) {
+  // Lights and materials changed while you look may switch on what the loaded scene lacked.
+  SceneFeatures f = scene.features;
+  for (const Light& l : frame.lights) f.has_lights |= glm::dot(l.color, l.color) > 0.0f;
+  for (size_t i = 0; i < frame.materials.size() && i < scene.materials.size(); ++i) {
+    const MaterialParams& m = frame.materials[i];
+    f.has_highlights |= m.cls != MaterialClass::kDiffuse && glm::dot(m.kh, m.kh) > 0.0f;
+    f.has_highlights |= m.cls == MaterialClass::kMetal && glm::dot(m.ks, m.ks) > 0.0f;
+  }
+  return shade_path(f, scene.settings.skips);
 }
 
 bool apply_scene_variant(Scene& scene, const std::string& variant) {
@@ -70,6 +83,7 @@ bool apply_scene_variant(Scene& scene, const std::string& variant) {
 void translate_scene(Scene& scene, const Vec3& offset) {
   for (Vec3& p : scene.geometry.positions) p += offset;
   for (Sphere& s : scene.geometry.spheres) s.center += offset;
+  for (DynamicObject& o : scene.dynamic) o.sphere.center += offset;
   for (Light& l : scene.lights) l.position += offset;  // directional lights have no position
   scene.camera.eye += offset;
   scene.camera.look += offset;

@@ -30,6 +30,9 @@ inline uint32_t shade_path(const Scene& scene) {
   return shade_path(scene.features, scene.settings.skips);
 }
 
+// The path for a sample that sees `frame`'s lights and materials (changed while you look).
+uint32_t frame_shade_path(const Scene& scene, const DynamicFrame& frame);
+
 // Ablation variants of a loaded scene (benchmarks and tests; re-finalizes the scene):
 //   "no-lights"      removes every light (shading keeps the ambient term);
 //   "no-dielectric"  turns dielectrics into polished spheres of the same highlight;

@@ -10,6 +10,7 @@
 #include "core/scene_build.h"
 #include "core/scene_io.h"
 #include "core/scene_json_materials.h"
+#include "core/scene_json_motion.h"
 
 namespace frameless {
 namespace scene_json {
@@ -167,6 +168,7 @@ struct Context {
   TextureNames textures;
   ImageCache images;
   std::set<uint32_t> object_space;  // solid textures that follow the object they are on
+  PendingPhysics physics;           // physics balls, simulated once all objects are read
 };
 
 // The object's material. A material with object-space solid textures is copied for the object,
@@ -241,11 +243,20 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
   const std::string type = get_string(need(o, f, "type"), f + ".type");
   Scene& s = ctx.scene;
   if (type == "sphere") {
-    check_keys(o, f, {"type", "center", "radius", "material"});
+    check_keys(o, f, {"type", "center", "radius", "material", "motion", "dynamic", "name"});
     const Vec3 c = get_vec3(need(o, f, "center"), f + ".center");
     const double r = get_number(need(o, f, "radius"), f + ".radius");
     if (!(r > 0.0)) fail(f + ".radius", "must be > 0 (got " + o["radius"].dump() + ")");
-    add_sphere(s, c, float(r), object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), c)));
+    const bool dynamic = o.contains("motion") || (o.contains("dynamic") && get_bool(o["dynamic"], f + ".dynamic"));
+    if (dynamic) {
+      // Moving spheres stay out of the BVH (seed section 4); solid textures would not follow.
+      const uint16_t mat = object_material(o, f, ctx);
+      if (s.materials[mat].textured() || s.materials[mat].cutout())
+        fail(f + ".material", "a moving sphere takes an untextured material");
+      parse_dynamic_sphere(o, f, s, Sphere{c, float(r)}, mat, ctx.physics);
+    } else {
+      add_sphere(s, c, float(r), object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), c)));
+    }
   } else if (type == "mesh") {
     // OBJ (with its MTL materials when it names one), PLY, glTF or GLB; "material" overrides
     // the file's own materials and is required when the file has none.
@@ -283,7 +294,8 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
 void parse_scene(const json& root, Context& ctx) {
   Scene& s = ctx.scene;
   require_object(root, "(top level)");
-  check_keys(root, "", {"camera", "settings", "ambient", "lights", "textures", "materials", "objects"});
+  check_keys(root, "", {"camera", "settings", "ambient", "lights", "textures", "materials", "objects",
+                        "physics"});
   if (root.contains("settings")) parse_settings(root["settings"], s.settings);
   s.ambient = default_hemisphere_ambient();
   if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
@@ -303,8 +315,13 @@ void parse_scene(const json& root, Context& ctx) {
   if (!objs.is_array()) fail("objects", "expected an array, got " + type_name(objs));
   if (objs.empty()) fail("objects", "empty (a scene needs at least one object)");
   for (size_t i = 0; i < objs.size(); ++i) parse_object(objs[i], "objects[" + std::to_string(i) + "]", ctx);
+  finish_physics(root.contains("physics") ? &root["physics"] : nullptr, s, ctx.physics);
   Vec3 lo, hi;
   scene_bounds(s.geometry, lo, hi);
+  for (const DynamicObject& d : s.dynamic) {  // frame the camera on moving objects too
+    lo = glm::min(lo, d.sphere.center - Vec3(d.sphere.radius));
+    hi = glm::max(hi, d.sphere.center + Vec3(d.sphere.radius));
+  }
   if (!is_finite(lo) || !is_finite(hi)) fail("objects", "geometry extends beyond finite coordinates");
   if (root.contains("camera")) {
     parse_camera(root["camera"], s);
@@ -356,7 +373,7 @@ Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const s
   auto scene = std::make_unique<Scene>();
   const size_t slash = path.find_last_of('/');
   scene->name = slash == std::string::npos ? path : path.substr(slash + 1);
-  Context ctx{*scene, {}, base_dir, {}, {}, {}};
+  Context ctx{*scene, {}, base_dir, {}, {}, {}, {}};
   try {
     parse_scene(root, ctx);
   } catch (const Failure& f) {

@@ -49,12 +49,13 @@ struct ShadeContext {
   int max_depth;
   uint64_t rng_seed;        // the sample's own stream (area-sampled shadows), drawn lazily
   mutable uint32_t draws;   // streams handed out so far in this sample
+  const DynamicFrame* frame;  // moving objects, lights and materials at the sample's instant
 };
 
-ShadeContext make_context(const Scene& scene, uint64_t rng_seed) {
+ShadeContext make_context(const Scene& scene, uint64_t rng_seed, const DynamicFrame* frame) {
   const RenderSettings& s = scene.settings;
   return ShadeContext{scene, s.skips.prune ? s.min_contribution : 0.0f, s.skips.any_hit,
-                      s.max_depth, rng_seed, 0};
+                      s.max_depth, rng_seed, 0, frame};
 }
 
 // Shadow factor of a light with an extent, or with transparent shadows (cold path: kept out of
@@ -75,16 +76,16 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
   ray.tmax = tmax;
   const ShadowMode mode = light.has_extent() ? st.shadows : ShadowMode::kHard;
   if (mode == ShadowMode::kHard || !(tan_half > 0.0f)) {
-    return shadow_transmittance(c.scene, ray, false);  // only reached with transparent shadows
+    return shadow_transmittance(c.scene, ray, false, c.frame);  // only reached with transparent shadows
   }
   if (mode == ShadowMode::kSoft) {
-    const float s = soft_visibility(c.scene, q);
+    const float s = soft_visibility(c.scene, q, c.frame);
     if (!(s > 0.0f) || !st.transparent_shadows) return Vec3(s);
-    return s * shadow_transmittance(c.scene, ray, true);
+    return s * shadow_transmittance(c.scene, ray, true, c.frame);
   }
   // One stream per shadow query of the sample: no generator is set up on paths that need none.
   Rng rng(mix64(c.rng_seed + c.draws++));
-  return area_visibility(c.scene, q, st.shadow_samples, rng);
+  return area_visibility(c.scene, q, st.shadow_samples, rng, c.frame);
 }
 
 // Calls f(s l_e, l, n.l) for each light that faces the surface and is not fully shadowed.
@@ -97,7 +98,7 @@ template <class F>
   const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
   const bool transparent = scene.settings.transparent_shadows;
   const bool extended_mode = scene.settings.shadows != ShadowMode::kHard;
-  for (const Light& light : scene.lights) {
+  for (const Light& light : frame_lights(scene, c.frame)) {
     Vec3 l;
     float tmax, tan_half = 0.0f, half_angle = 0.0f;
     if (light.kind == LightKind::kDirectional) {
@@ -138,10 +139,10 @@ template <class F>
     shadow.tmin = 0.0f;
     shadow.tmax = tmax;
     if (c.any_hit) {
-      if (scene.accel.occluded(shadow)) continue;
+      if (scene_occluded(scene, c.frame, shadow)) continue;
     } else {
       Hit blocker;  // ablation: closest-hit traversal for the same visibility question
-      if (scene.accel.intersect(shadow, blocker)) continue;
+      if (scene_intersect(scene, c.frame, shadow, blocker)) continue;
     }
     f(light.color, l, nl);
   }
@@ -279,9 +280,10 @@ template <uint32_t F>
 Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
                         const SurfacePoint& sp, int depth, const Vec3& weight,
                         const MaterialParams* medium) {
-  const MaterialParams& base = c.scene.materials[sp.material];
+  const MaterialParams& base = frame_material(c.scene, c.frame, sp.material);
   // Untextured materials are shaded in place: no texture coordinate is ever computed for them.
-  if (!base.textured()) return shade_material<F>(c, ray, base, sp, depth, weight, medium);
+  // Dynamic objects have no texture coordinates either (their frame moves per sample).
+  if (!base.textured() || is_dynamic_prim(hit.prim)) return shade_material<F>(c, ray, base, sp, depth, weight, medium);
   MaterialParams m = base;
   SurfacePoint tsp = sp;
   apply_textures(c.scene, ray, hit, m, tsp);
@@ -294,7 +296,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
                 SurfacePoint* first_point) {
   const Scene& scene = c.scene;
   Hit hit;
-  const bool found = scene.accel.intersect(ray, hit);
+  const bool found = scene_intersect(scene, c.frame, ray, hit);
   if (first_hit) *first_hit = hit;
   if (!found) {
     Vec3 bg = scene.settings.background;
@@ -305,7 +307,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
           if (medium->extinction[k] > 0.0f) bg[k] = 0.0f;
     return bg;
   }
-  const SurfacePoint sp = surface_point(scene.geometry, ray, hit);
+  const SurfacePoint sp = scene_surface_point(scene, c.frame, ray, hit);
   if (first_point) *first_point = sp;
   if constexpr ((F & kShadeAbsorption) == 0) {
     // No absorbing medium in the scene: light is never attenuated between surfaces.
@@ -398,9 +400,10 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
 
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
                          const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
-                         SurfacePoint* first_point, uint64_t rng_seed) {
-  return kTracePaths[path % kShadePaths](make_context(scene, rng_seed), ray, ray.org, depth, weight, medium,
-                                         first_hit, first_point);
+                         SurfacePoint* first_point, uint64_t rng_seed,
+                         const DynamicFrame* frame) {
+  return kTracePaths[path % kShadePaths](make_context(scene, rng_seed, frame), ray, ray.org, depth,
+                                         weight, medium, first_hit, first_point);
 }
 
 }  // namespace frameless

@@ -83,7 +83,8 @@ inline float segment_distance(P2 a, P2 b, P2& closest) {
 
 class SoftQuery final : public Accel::ConeVisitor {
  public:
-  SoftQuery(const Scene& scene, const ShadowQuery& q) : scene_(scene), g_(scene.geometry), q_(q) {
+  SoftQuery(const Scene& scene, const ShadowQuery& q, const DynamicFrame* frame)
+      : scene_(scene), g_(scene.geometry), q_(q), frame_(frame) {
     basis(q.dir, b1_, b2_);
     Ray r;
     r.org = q.org;
@@ -103,9 +104,20 @@ class SoftQuery final : public Accel::ConeVisitor {
   bool leaf(uint32_t first, uint32_t count) override {
     const uint32_t nt = g_.num_triangles();
     for (uint32_t p = first; p < first + count; ++p) {
-      const bool stop = p < nt ? triangle(p) : sphere(p - nt);
+      const bool stop =
+          p < nt ? triangle(p) : sphere(g_.spheres[p - nt], material_of(g_.sphere_material, p - nt), p);
       if (stop) return false;
     }
+    return true;
+  }
+
+  // The moving objects of the sample's frame, tested like static spheres. Returns false when
+  // s = 0 is certain.
+  bool dynamic_objects() {
+    if (!frame_) return true;
+    for (size_t i = 0; i < frame_->spheres.size(); ++i)
+      if (sphere(frame_->spheres[i], frame_->sphere_material[i], kDynamicPrimBase + uint32_t(i)))
+        return false;
     return true;
   }
 
@@ -120,8 +132,8 @@ class SoftQuery final : public Accel::ConeVisitor {
       probe.dir = outlines_[i].probe;
       // With transparent shadows only opaque surfaces close the far side of an outline.
       const bool open = q_.skip_dielectrics
-                            ? max_component(shadow_transmittance(scene_, probe, false)) > 0.0f
-                            : !scene_.accel.occluded(probe);
+                            ? max_component(shadow_transmittance(scene_, probe, false, frame_)) > 0.0f
+                            : !scene_occluded(scene_, frame_, probe);
       if (open) return edge_visibility(-outlines_[i].x);
     }
     return 0.0f;
@@ -286,18 +298,17 @@ class SoftQuery final : public Accel::ConeVisitor {
     return na;
   }
 
-  bool sphere(uint32_t i) {
-    const uint16_t m = material_of(g_.sphere_material, i);
+  bool sphere(const Sphere& s, uint16_t m, uint32_t prim) {
     if (skip_material(m)) {
-      if (scene_.materials[m].cutout()) {
+      // Dynamic objects carry no texture coordinates: a cut-out one casts no shadow.
+      if (scene_.materials[m].cutout() && !is_dynamic_prim(prim)) {
         float th;
-        if (intersect_sphere(q_.org, q_.dir, g_.spheres[i], 0.0f, q_.tmax, th) &&
-            cutout_opaque(scene_, g_.num_triangles() + i, ray_, th, 0.0f, 0.0f))
+        if (intersect_sphere(q_.org, q_.dir, s, 0.0f, q_.tmax, th) &&
+            cutout_opaque(scene_, prim, ray_, th, 0.0f, 0.0f))
           return zero_ = true;
       }
       return false;
     }
-    const Sphere& s = g_.spheres[i];
     const Vec3 w = s.center - q_.org;
     const float dist = glm::length(w);
     const float r = std::fabs(s.radius);
@@ -342,6 +353,7 @@ class SoftQuery final : public Accel::ConeVisitor {
   const Scene& scene_;
   const Geometry& g_;
   const ShadowQuery& q_;
+  const DynamicFrame* frame_;
   Vec3 b1_, b2_;
   Ray ray_;
   TriangleRay tri_ray_;
@@ -357,24 +369,26 @@ class SoftQuery final : public Accel::ConeVisitor {
 
 }  // namespace
 
-float soft_visibility(const Scene& scene, const ShadowQuery& q) {
+float soft_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFrame* frame) {
   if (!(q.tan_half > 0.0f) || !(q.half_angle > 0.0f)) {
     Ray r;
     r.org = q.org;
     r.dir = q.dir;
     r.tmax = q.tmax;
-    return scene.accel.occluded(r) ? 0.0f : 1.0f;
+    return scene_occluded(scene, frame, r) ? 0.0f : 1.0f;
   }
-  SoftQuery query(scene, q);
+  SoftQuery query(scene, q, frame);
   Ray r;
   r.org = q.org;
   r.dir = q.dir;
   r.tmax = q.tmax;
+  if (!query.dynamic_objects()) return 0.0f;
   if (!scene.accel.visit_cone(r, q.tan_half, query)) return 0.0f;
   return query.finish();
 }
 
-Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng) {
+Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng,
+                     const DynamicFrame* frame) {
   samples = std::max(1, samples);
   Vec3 b1, b2;
   basis(q.dir, b1, b2);
@@ -394,17 +408,16 @@ Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng&
     r.org = q.org;
     r.dir = glm::normalize(cos_t * q.dir + sin_t * (std::cos(phi) * b1 + std::sin(phi) * b2));
     r.tmax = q.tmax;
-    if (q.skip_dielectrics) visible += shadow_transmittance(scene, r, false);
-    else if (!scene.accel.occluded(r)) visible += Vec3(1.0f);
+    if (q.skip_dielectrics) visible += shadow_transmittance(scene, r, false, frame);
+    else if (!scene_occluded(scene, frame, r)) visible += Vec3(1.0f);
   }
   return visible / float(samples);
 }
 
-Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque) {
+Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque,
+                          const DynamicFrame* frame) {
   Vec3 tr(1.0f);
   Ray r = ray;
-  const Geometry& g = scene.geometry;
-  const uint32_t nt = g.num_triangles();
   // Where the current stretch inside a dielectric began: the ray's origin when it starts inside.
   Vec3 entered = ray.org;
   const Vec3 end = std::isfinite(ray.tmax) ? ray.org + ray.tmax * ray.dir : Vec3(0.0f);
@@ -416,15 +429,13 @@ Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque
   // The shadow ray is not bent at interfaces (the usual approximation of transparent shadows).
   for (int crossings = 0; crossings < 64; ++crossings) {
     Hit h;
-    if (!scene.accel.intersect(r, h)) {
+    if (!scene_intersect(scene, frame, r, h)) {
       // Ends inside a dielectric (a light within glass): absorb up to the end of the ray.
       if (inside && std::isfinite(ray.tmax)) absorb(*inside, entered, end);
       return inside && !std::isfinite(ray.tmax) ? Vec3(0.0f) : tr;
     }
-    const uint32_t i = h.prim < nt ? h.prim : h.prim - nt;
-    const std::vector<uint16_t>& mats = h.prim < nt ? g.triangle_material : g.sphere_material;
-    const Material& m = scene.materials[mats.empty() ? 0 : mats[i]];
-    const SurfacePoint sp = surface_point(g, r, h);
+    const SurfacePoint sp = scene_surface_point(scene, frame, r, h);
+    const MaterialParams& m = frame_material(scene, frame, sp.material);
     if (m.cls == MaterialClass::kDielectric) {
       // A back-face hit leaves the medium (even when the ray started inside it).
       if (!sp.front_face) absorb(m, inside ? entered : ray.org, sp.p);

@@ -25,16 +25,19 @@ struct ShadowQuery {
 float edge_visibility(float x);
 
 // Single-sample soft shadow s in [0, 1] for one light: one cone query over the BVH.
-float soft_visibility(const Scene& scene, const ShadowQuery& q);
+float soft_visibility(const Scene& scene, const ShadowQuery& q,
+                      const DynamicFrame* frame = nullptr);
 
 // Area-sampled reference: `samples` rays spread (stratified) over the cone; the fraction
 // unblocked, or with q.skip_dielectrics (transparent shadows) their mean transmittance.
-Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng);
+Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng,
+                     const DynamicFrame* frame = nullptr);
 
 // Transmittance along a shadow ray through dielectrics (k_t at each interface, Beer's law
 // inside): 0 when an opaque surface blocks it, unless ignore_opaque (soft mode leaves opaque
 // occluders to the cone query).
-Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque);
+Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque,
+                          const DynamicFrame* frame = nullptr);
 
 // Builds Geometry::triangle_opposite (edge adjacency by vertex position) for soft shadows.
 void build_triangle_adjacency(Geometry& geom);

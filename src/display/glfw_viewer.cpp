@@ -29,7 +29,7 @@ const std::vector<std::string> kHelp = {
     "drag: orbit  right/middle drag: pan",   "wheel: zoom  WASD, Q/E: fly  R: reset",
     "M: frameless/conventional  V: view",    "[ ]: alpha -/+   - =: refresh -/+",
     ", .: update % -/+   G T: threads -/+",  "P: save EXR snapshot  H/F1: help",
-    "O: overlay on/off  Esc: quit"};
+    "arrows, PgUp/PgDn: move the light",     "O: overlay on/off  Esc: quit"};
 
 std::string glfw_error_text;
 void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unknown error"; }
@@ -337,6 +337,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
 
   engine.start();
   display.start();
+  WorldState world = engine.world();  // lights the arrow keys move (published like the camera)
   size_t next_script = 0;
   int presented = 0;
   double last_loop = v.now();
@@ -350,6 +351,15 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
                 fwd = held(GLFW_KEY_W) - held(GLFW_KEY_S);
     if (right != 0 || up != 0 || fwd != 0)
       v.set_camera(fly_camera(v.camera, right, up, fwd, float(std::min(dt, 0.1))));
+    // Arrow keys and page up/down move the first light, at the camera's orbit distance per second.
+    const float lx = held(GLFW_KEY_RIGHT) - held(GLFW_KEY_LEFT),
+                ly = held(GLFW_KEY_PAGE_UP) - held(GLFW_KEY_PAGE_DOWN),
+                lz = held(GLFW_KEY_DOWN) - held(GLFW_KEY_UP);
+    if ((lx != 0 || ly != 0 || lz != 0) && !world.lights.empty()) {
+      const float speed = glm::length(v.camera.eye - v.camera.look) * float(std::min(dt, 0.1));
+      world.lights[0].position += speed * Vec3(lx, ly, lz);
+      engine.publish_world(world);
+    }
     while (next_script < script.size() && script[next_script].time <= t) v.run_script(script[next_script++]);
     // Re-partition once the window has stopped changing size for a moment.
     if (v.pending_w > 0 && t - v.pending_since > 0.15) {

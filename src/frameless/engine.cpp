@@ -123,7 +123,14 @@ void Engine::start() {
       const Camera cam = e.channel.read(&ep);
       w.basis = make_camera_basis(cam, e.cfg.width, e.cfg.height);
       w.epoch = ep;
+      w.world = initial_world(e.scene);
+      w.world_epoch = e.world_channel.read(w.world_buf);
+      unpack_world(w.world_buf.data(), w.world_buf.size(), w.world);
+      w.moving = !e.scene.dynamic.empty() || w.world_epoch > 1;
+      evaluate_frame(e.scene, w.world, e.now(), w.frame);
     }
+    e.frame_world = initial_world(e.scene);
+    e.frame_world_epoch = 0;
     e.frames.middle.store(1, std::memory_order_relaxed);
     e.frames.back = 0;
     e.frames.front = 2;
@@ -172,6 +179,26 @@ uint32_t Engine::publish_camera(const Camera& camera) {
   return impl_->channel.publish(camera);
 }
 uint32_t Engine::camera_epoch() const { return impl_->channel.epoch(); }
+
+uint32_t Engine::publish_world(const WorldState& world) {
+  Impl& e = *impl_;
+  std::vector<float> flat;
+  pack_world(world, flat);
+  WorldState check = initial_world(e.scene);  // counts, kinds and classes of this scene
+  if (!unpack_world(flat.data(), flat.size(), check))
+    throw std::invalid_argument("publish_world: world state does not match the scene or is not finite");
+  return e.world_channel.publish(flat.data(), flat.size());
+}
+
+uint32_t Engine::world_epoch() const { return impl_->world_channel.epoch(); }
+
+WorldState Engine::world() const {
+  std::vector<float> flat;
+  impl_->world_channel.read(flat);
+  WorldState w = initial_world(impl_->scene);
+  unpack_world(flat.data(), flat.size(), w);
+  return w;
+}
 Camera Engine::camera() const { return impl_->channel.read(); }
 
 void Engine::reconfigure(const EngineConfig& config) {

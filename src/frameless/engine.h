@@ -96,6 +96,13 @@ class Engine {
   uint32_t publish_camera(const Camera& camera);
   uint32_t camera_epoch() const;  // newest epoch; any thread
   Camera camera() const;          // newest camera; any thread
+  // What moves while you look (core/dynamic.h): publishes where the dynamic objects sit (their
+  // own motion adds to that), the lights and the material parameters, without blocking; render
+  // threads pick it up at the update percentage, like the camera. Throws std::invalid_argument
+  // when the counts differ from the scene's or a value is not finite. Any thread.
+  uint32_t publish_world(const WorldState& world);
+  uint32_t world_epoch() const;  // 1 until the first publish; any thread
+  WorldState world() const;      // newest published world; any thread
 
   // Runtime changes (control thread). Each stops the threads, rebuilds what it must (resize
   // re-partitions and clears pixel state) and restarts them if they were running.

@@ -23,6 +23,7 @@ std::string validate(const EngineConfig& c) {
   if (!(c.update_percent >= 0.01 && c.update_percent <= 100.0))
     return "update_percent: must be 0.01..100";
   if (std::string a = validate(c.adaptive); !a.empty()) return a;
+  if (c.motion_history < 2 || c.motion_history > 65536) return "motion_history: must be 2..65536";
   return "";
 }
 

@@ -58,6 +58,11 @@ struct EngineConfig {
   size_t update_log_capacity = 0;   // per-thread update-log records (0 = off, no cost)
   SampleShader shader;              // null fn: the core's trace_sample
   AdaptiveConfig adaptive;          // adaptive frameless sampling (off by default)
+  // Scenes where something moves (dynamic objects, or lights and materials changed while you
+  // look): a pixel's running mean remembers at most this many samples (an exponential moving
+  // average after that), and a sample more than 4 sigma from the mean restarts it, so moved
+  // content is blended in instead of averaged forever (docs/engine.md). 2..65536.
+  int motion_history = 32;
 };
 
 // Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.

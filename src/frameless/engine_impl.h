@@ -15,6 +15,7 @@
 #include "frameless/conventional_jobs.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
+#include "frameless/world_channel.h"
 
 namespace frameless {
 
@@ -40,6 +41,14 @@ struct FramelessWorker {
   CameraBasis basis;           // camera in use
   UpdateLog* log = nullptr;    // null when logging is off
   AdaptiveWorkerState adaptive;  // adaptive sampling: consecutive skips per list position
+  // What moves (core/dynamic.h): the world in use, picked up like the camera, and this thread's
+  // frame of it, moved to each sample's instant. `moving` passes the frame to shading at all.
+  uint32_t world_epoch = 0;
+  WorldState world;
+  DynamicFrame frame;
+  std::vector<float> world_buf;
+  uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame `frame` was evaluated for
+  bool moving = false;
 };
 
 // Conventional frames: render side writes `back`, publishes by exchanging it with `middle`;
@@ -60,11 +69,17 @@ struct Engine::Impl {
   };
 
   Impl(const Scene& s, const EngineConfig& c, const Camera& camera)
-      : scene(s), cfg(c), channel(camera) {}
+      : scene(s), cfg(c), channel(camera), world_channel(initial_world_floats(s)) {}
+  static std::vector<float> initial_world_floats(const Scene& s) {
+    std::vector<float> v;
+    pack_world(initial_world(s), v);
+    return v;
+  }
 
   const Scene& scene;
   EngineConfig cfg;          // control thread; read-only for render threads while they run
   CameraChannel channel;
+  WorldChannel world_channel;  // dynamic objects, lights, materials (application side publishes)
   uint64_t sample_seed_base = 0;  // scene seed mixed with cfg.seed
 
   // Layout (rebuilt by the control thread while render threads are stopped).
@@ -94,6 +109,12 @@ struct Engine::Impl {
   std::atomic<uint32_t> next_job{0};
   uint32_t frame_epoch = 0;
   CameraBasis frame_basis;
+  // The instant and world a conventional frame sees (one for the whole frame).
+  uint64_t frame_serial = 0;
+  double frame_time = 0.0;
+  uint32_t frame_world_epoch = 0;
+  WorldState frame_world;
+  std::vector<float> frame_world_buf;
   bool frame_stop = false;
   size_t frame_pos = 0;  // deterministic: pixels of the current frame already rendered
   std::unique_ptr<std::barrier<FrameDone>> barrier;

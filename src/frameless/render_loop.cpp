@@ -20,19 +20,26 @@ constexpr int kStrata[2][2] = {{0, 3}, {1, 2}};
 
 template <bool kCustom>
 inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px, float py,
-                          uint64_t seed) {
+                          uint64_t seed, const DynamicFrame* frame) {
   if constexpr (kCustom)
     return e.cfg.shader.fn(e.cfg.shader.context, b, px, py, seed);
   else
-    return trace_sample(e.scene, b, px, py, seed);
+    return trace_sample(e.scene, b, px, py, seed, frame);
 }
+
+// A sample this far (in standard deviations of the pixel's luminance, plus a small absolute
+// floor) from the running mean means the content moved: the statistics restart.
+constexpr double kMotionSigmas = 4.0;
+constexpr double kMotionFloor = 0.02;
 
 // One pixel update of pixel `idx`, whose state is `p`: 1 or 2 samples, Welford per sample,
 // publish under the pixel's sequence lock.
-// `frame` (conventional) also receives the published snapshot.
+// `frame` (conventional) also receives the published snapshot. `world` (null when nothing
+// moves) is what the samples see of dynamic objects, lights and materials.
 template <bool kCustom>
 inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const CameraBasis& basis,
-                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame) {
+                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame,
+                         const DynamicFrame* world) {
   const uint32_t w = uint32_t(e.partition.width);
   const uint32_t x = idx % w, y = idx / w;
   const uint32_t passes = p.passes.load(std::memory_order_relaxed);
@@ -48,7 +55,7 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
       px = float(x) + 0.5f * (float(s & 1) + rng.next_float());
       py = float(y) + 0.5f * (float(s >> 1) + rng.next_float());
     }
-    const SampleResult r = shade<kCustom>(e, basis, px, py, mix64(seed ^ kSeedSalt));
+    const SampleResult r = shade<kCustom>(e, basis, px, py, mix64(seed ^ kSeedSalt), world);
     if (r.valid && is_finite(r.color))
       colors[valid++] = r.color;
   }
@@ -65,13 +72,32 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
   uint32_t count = same_epoch ? p.count.load(std::memory_order_relaxed) : 0u;
   double mean[3], m2 = 0.0;
   for (int c = 0; c < 3; ++c) mean[c] = same_epoch ? p.mean[c].load(std::memory_order_relaxed) : 0.0;
-  if (same_epoch && tracks_variance(e.cfg)) m2 = p.m2.load(std::memory_order_relaxed);
+  const bool variance = tracks_variance(e.cfg) || world;
+  if (same_epoch && variance) m2 = p.m2.load(std::memory_order_relaxed);
+  if (world && count > 0) {
+    // Something moves: a sample far outside the pixel's spread restarts its statistics, and
+    // the count saturates at motion_history, so the mean forgets (an exponential average).
+    const double lum_mean = luminance(mean[0], mean[1], mean[2]);
+    const Vec3& s = colors[0];
+    const double dev = std::fabs(luminance(s.x, s.y, s.z) - lum_mean);
+    const double sigma = count > 1 ? std::sqrt(m2 / double(count - 1)) : 0.0;
+    if (count >= 4 && dev > kMotionSigmas * sigma + kMotionFloor * std::max(1.0, lum_mean)) {
+      count = 0;
+      m2 = 0.0;
+      for (double& m : mean) m = 0.0;
+    } else if (count + uint32_t(valid) > uint32_t(e.cfg.motion_history)) {
+      // Room for this update's samples; the variance estimate shrinks to the same window.
+      const uint32_t keep = std::max(1u, uint32_t(e.cfg.motion_history) - uint32_t(valid));
+      m2 *= double(keep) / double(count);
+      count = keep;
+    }
+  }
   Vec3 sum(0.0f);
   for (int k = 0; k < valid; ++k) {
     const Vec3& s = colors[k];
     sum += s;
     if (count != 0xffffffffu) ++count;  // saturates: the mean then becomes a slow moving average
-    if (tracks_variance(e.cfg)) {
+    if (variance) {
       const double lum_mean = luminance(mean[0], mean[1], mean[2]);
       const double lum = luminance(s.x, s.y, s.z);
       for (int c = 0; c < 3; ++c) mean[c] += (double(s[c]) - mean[c]) / double(count);
@@ -108,6 +134,17 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
   }
 }
 
+// Picks up the newest world state (dynamic objects, lights, materials) if it changed.
+void refresh_world(Engine::Impl& e, FramelessWorker& w, double time) {
+  if (e.world_channel.epoch() == w.world_epoch) return;
+  const uint32_t ep = e.world_channel.read(w.world_buf);
+  // The channel carries only what the engine published after checking it: it always fits.
+  unpack_world(w.world_buf.data(), w.world_buf.size(), w.world);
+  evaluate_frame(e.scene, w.world, time, w.frame);
+  w.world_epoch = ep;
+  w.moving = true;
+}
+
 // Picks up the newest camera if it changed.
 void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
   if (e.channel.epoch() == epoch) return;
@@ -127,6 +164,7 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
     if (--w.countdown == 0) {
       w.countdown = w.interval;
       refresh_camera(e, w.epoch, w.basis);
+      refresh_world(e, w, t_begin + dt * double(i));
     }
     const size_t pos = w.pos;
     const uint32_t idx = list[pos];
@@ -139,8 +177,12 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
         ctr.updates.store(++w.updates, std::memory_order_release);
         continue;
       }
-    const float time = float(t_begin + dt * double(i));
-    update_pixel<kCustom>(e, idx, p, w.basis, w.epoch, time, ctr, nullptr);
+    const double t = t_begin + dt * double(i);
+    const float time = float(t);
+    // Dynamic objects are where they are at this sample's own instant.
+    if (w.moving && w.frame.time != t) advance_frame(e.scene, w.world, t, w.frame);
+    update_pixel<kCustom>(e, idx, p, w.basis, w.epoch, time, ctr, nullptr,
+                          w.moving ? &w.frame : nullptr);
     if (w.log) {
       if (w.log->records.size() < w.log->records.capacity())
         w.log->records.push_back({idx, w.epoch, e.display_tick.load(std::memory_order_relaxed), time});
@@ -193,13 +235,23 @@ void frameless_thread_main(Engine::Impl& e, int t) {
 void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double t_begin, double dt) {
   PixelSnapshot* frame = e.frames.buf[e.frames.back].data();
   ThreadCounters& ctr = e.counters[t];
+  // A conventional frame sees one instant: its world is evaluated once per frame and thread.
+  FramelessWorker& w = e.workers[size_t(t)];
+  if (w.frame_serial != e.frame_serial) {
+    w.moving = !e.scene.dynamic.empty() || e.frame_world_epoch > 1;
+    if (w.moving) evaluate_frame(e.scene, e.frame_world, e.frame_time, w.frame);
+    w.frame_serial = e.frame_serial;
+  }
+  const DynamicFrame* world = w.moving ? &w.frame : nullptr;
   for (size_t i = begin; i < end; ++i) {  // in conventional mode slot i holds job_pixels[i]
     const uint32_t idx = e.job_pixels[i];
     const float time = float(t_begin + dt * double(i - begin));
     if (e.cfg.shader.fn)
-      update_pixel<true>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+      update_pixel<true>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx],
+                         world);
     else
-      update_pixel<false>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx]);
+      update_pixel<false>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr,
+                          &frame[idx], world);
   }
   ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
                     std::memory_order_release);
@@ -211,6 +263,12 @@ void begin_frame(Engine::Impl& e) {
   e.frame_basis = make_camera_basis(cam, e.partition.width, e.partition.height);
   e.frame_epoch = ep;
   e.frame_pos = 0;
+  e.frame_time = e.now();
+  if (e.world_channel.epoch() != e.frame_world_epoch) {
+    e.frame_world_epoch = e.world_channel.read(e.frame_world_buf);
+    unpack_world(e.frame_world_buf.data(), e.frame_world_buf.size(), e.frame_world);
+  }
+  ++e.frame_serial;
 }
 
 void publish_frame(Engine::Impl& e) {

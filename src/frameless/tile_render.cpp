@@ -21,7 +21,7 @@ namespace {
 constexpr int kTile = 16;
 
 void render_tile(const Scene& scene, const CameraBasis& camera, const TileRenderOptions& o,
-                 int x0, int y0, RenderedImage& img, uint64_t& dropped) {
+                 const DynamicFrame* frame, int x0, int y0, RenderedImage& img, uint64_t& dropped) {
   const int x1 = std::min(x0 + kTile, img.width), y1 = std::min(y0 + kTile, img.height);
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
@@ -29,7 +29,7 @@ void render_tile(const Scene& scene, const CameraBasis& camera, const TileRender
       Vec3 sum(0.0f);
       int n = 0;
       for (int s = 0; s < o.spp; ++s) {
-        const SampleResult r = render_sample(scene, camera, x, y, o.first_sample + s, o.jitter);
+        const SampleResult r = render_sample(scene, camera, x, y, o.first_sample + s, o.jitter, frame);
         if (!r.valid) {
           ++dropped;
           continue;
@@ -53,6 +53,13 @@ void render_tile(const Scene& scene, const CameraBasis& camera, const TileRender
 RenderedImage render_tiles(const Scene& scene, const CameraBasis& camera,
                            const TileRenderOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  // Moving objects sit where they are at o.time; one read-only frame serves every worker.
+  DynamicFrame frame;
+  const DynamicFrame* frame_ptr = nullptr;
+  if (!scene.dynamic.empty()) {
+    evaluate_frame(scene, initial_world(scene), o.time, frame);
+    frame_ptr = &frame;
+  }
   RenderedImage img;
   img.width = camera.width;
   img.height = camera.height;
@@ -70,7 +77,7 @@ RenderedImage render_tiles(const Scene& scene, const CameraBasis& camera,
     enable_flush_to_zero();
     uint64_t local_dropped = 0;
     for (int t; (t = next.fetch_add(1, std::memory_order_relaxed)) < tiles;) {
-      render_tile(scene, camera, o, (t % tiles_x) * kTile, (t / tiles_x) * kTile, img,
+      render_tile(scene, camera, o, frame_ptr, (t % tiles_x) * kTile, (t / tiles_x) * kTile, img,
                   local_dropped);
       done.fetch_add(1, std::memory_order_release);
     }

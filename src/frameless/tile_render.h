@@ -16,6 +16,7 @@ struct TileRenderOptions {
   int threads = 1;
   bool jitter = true;
   uint32_t first_sample = 0;  // sample indices [first_sample, first_sample + spp) per pixel
+  double time = 0.0;          // seconds: where moving objects are (core/dynamic.h)
   // Called from the caller's thread about ten times a second with the fraction done.
   std::function<void(double)> progress;
 };

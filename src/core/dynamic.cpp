@@ -1,0 +1,151 @@
+// Dynamic objects: per-ray tests next to the static BVH, frames at an instant, the flat world
+// state of the motion channel.
+#include "core/dynamic.h"
+
+#include <cmath>
+
+#include "core/intersect_sphere.h"
+#include "core/scene.h"
+#include "core/scene_analysis.h"
+
+namespace frameless {
+
+WorldState initial_world(const Scene& scene) {
+  WorldState w;
+  w.object_position.reserve(scene.dynamic.size());
+  for (const DynamicObject& o : scene.dynamic) w.object_position.push_back(o.sphere.center);
+  w.lights = scene.lights;
+  w.materials.assign(scene.materials.begin(), scene.materials.end());
+  return w;
+}
+
+size_t world_floats(const Scene& scene) {
+  return scene.dynamic.size() * kObjectFloats + scene.lights.size() * kLightFloats +
+         scene.materials.size() * kMaterialFloats;
+}
+
+void pack_world(const WorldState& w, std::vector<float>& out) {
+  out.clear();
+  auto put = [&](const Vec3& v) { out.insert(out.end(), {v.x, v.y, v.z}); };
+  for (const Vec3& p : w.object_position) put(p);
+  for (const Light& l : w.lights) {
+    put(l.position);
+    put(l.color);
+    out.push_back(l.radius);
+  }
+  for (const MaterialParams& m : w.materials) {
+    put(m.kd);
+    put(m.ks);
+    put(m.kh);
+    out.push_back(m.phong_exponent);
+  }
+}
+
+bool unpack_world(const float* data, size_t n, WorldState& w) {
+  const size_t want = w.object_position.size() * kObjectFloats + w.lights.size() * kLightFloats +
+                      w.materials.size() * kMaterialFloats;
+  if (n != want || (n > 0 && !data)) return false;
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(data[i])) return false;
+  // Radii and exponents must stay in range too: a negative radius would flip shadow cones.
+  const float* d = data;
+  for (size_t i = 0; i < w.object_position.size(); ++i) d += kObjectFloats;
+  for (size_t i = 0; i < w.lights.size(); ++i, d += kLightFloats)
+    if (d[6] < 0.0f) return false;
+  for (size_t i = 0; i < w.materials.size(); ++i, d += kMaterialFloats)
+    if (d[9] < 0.0f) return false;
+  d = data;
+  auto get = [&]() {
+    const Vec3 v(d[0], d[1], d[2]);
+    d += 3;
+    return v;
+  };
+  for (Vec3& p : w.object_position) p = get();
+  for (Light& l : w.lights) {
+    l.position = get();
+    l.color = get();
+    l.radius = *d++;
+  }
+  for (MaterialParams& m : w.materials) {
+    m.kd = get();
+    m.ks = get();
+    m.kh = get();
+    m.phong_exponent = *d++;
+  }
+  return true;
+}
+
+void advance_frame(const Scene& scene, const WorldState& w, double t, DynamicFrame& frame) {
+  const size_t n = std::min(scene.dynamic.size(), frame.spheres.size());
+  for (size_t i = 0; i < n; ++i) {
+    const DynamicObject& o = scene.dynamic[i];
+    const Vec3 base = i < w.object_position.size() ? w.object_position[i] : o.sphere.center;
+    frame.spheres[i].center = base + motion_offset(o.motion, t);
+  }
+  frame.time = t;
+}
+
+void evaluate_frame(const Scene& scene, const WorldState& w, double t, DynamicFrame& frame) {
+  const size_t n = scene.dynamic.size();
+  frame.spheres.resize(n);
+  frame.sphere_material.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    frame.spheres[i].radius = scene.dynamic[i].sphere.radius;
+    frame.sphere_material[i] = scene.dynamic[i].material;
+  }
+  frame.lights = w.lights.size() == scene.lights.size() ? w.lights : scene.lights;
+  if (w.materials.size() == scene.materials.size())
+    frame.materials = w.materials;
+  else
+    frame.materials.assign(scene.materials.begin(), scene.materials.end());
+  frame.shade_path = frame_shade_path(scene, frame);
+  advance_frame(scene, w, t, frame);
+}
+
+bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit) {
+  bool found = scene.accel.intersect(ray, hit);
+  if (!frame) return found;
+  float tmax = found ? hit.t : ray.tmax;
+  const size_t n = frame->spheres.size();
+  for (size_t i = 0; i < n; ++i) {
+    float t;
+    if (intersect_sphere(ray.org, ray.dir, frame->spheres[i], ray.tmin, tmax, t)) {
+      tmax = t;
+      hit.t = t;
+      hit.u = hit.v = 0.0f;
+      hit.prim = kDynamicPrimBase + uint32_t(i);
+      found = true;
+    }
+  }
+  return found;
+}
+
+bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ray) {
+  if (frame) {  // a handful of spheres first: cheaper than the BVH walk
+    for (const Sphere& s : frame->spheres) {
+      float t;
+      if (intersect_sphere(ray.org, ray.dir, s, ray.tmin, ray.tmax, t)) return true;
+    }
+  }
+  return scene.accel.occluded(ray);
+}
+
+SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
+                                 const Hit& hit) {
+  if (!is_dynamic_prim(hit.prim) || !frame) return surface_point(scene.geometry, ray, hit);
+  const uint32_t i = hit.prim - kDynamicPrimBase;
+  const Sphere& s = frame->spheres[i];
+  SurfacePoint sp;
+  Vec3 n = ray.org + hit.t * ray.dir - s.center;
+  const float len = glm::length(n);
+  n = len > 0.0f && std::isfinite(len) ? n / len : -ray.dir;
+  sp.p = s.center + s.radius * n;  // projected back onto the sphere, as for static spheres
+  sp.front_face = glm::dot(n, ray.dir) < 0.0f;
+  sp.ng = sp.front_face ? n : -n;
+  sp.ns = sp.ng;
+  sp.material = frame->sphere_material[i];
+  sp.scale = max_component(glm::abs(s.center)) + std::fabs(s.radius);
+  return sp;
+}
+
+}  // namespace frameless
