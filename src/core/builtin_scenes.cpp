@@ -176,10 +176,12 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   else if (name == "balls") scene = make_balls();
   else if (name == "bunny") scene = make_bunny();
   else if (name == "showcase") return make_showcase();  // a JSON scene: already finalized
+  else if (name == "teapot") return make_teapot();
+  else if (name == "room") return make_room();
   else if (name.rfind("spheres:", 0) == 0) scene = make_spheres(name);
   else
     return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
-                        "scene (default, showcase, balls, spheres:N[:SEED], bunny)"};
+                        "scene (default, showcase, balls, teapot, room, spheres:N[:SEED], bunny)"};
   if (!scene) return scene;
   finalize_scene(**scene);
   return scene;
@@ -189,7 +191,9 @@ const char* builtin_scene_help() {
   return "Built-in scenes:\n"
          "  default            all four material classes in an open room, hemisphere ambient\n"
          "  showcase           soft shadows, image and solid textures, a cut-out, a glTF model\n"
-         "  balls              Parker's bouncing balls (static configuration at t = 0)\n"
+         "  balls              Parker's bouncing balls: physics, soft shadows, moving while you look\n"
+         "  teapot             the Utah teapot's 32 Bezier patches, ray traced directly\n"
+         "  room               figure 16: ~75,000 polygons, spline teapot, glass, textures\n"
          "  spheres:N[:SEED]   N random spheres, 1 <= N <= 35000000, seeded (default seed 1)\n"
          "  bunny              the Stanford bunny from Debian's glmark2-data\n"
          "Or a scene file (.json) or a mesh file (.obj, .ply).";

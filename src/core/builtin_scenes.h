@@ -18,8 +18,13 @@ std::unique_ptr<Scene> make_balls();
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
 // Path of the Stanford bunny shipped by Debian's glmark2-data.
-// The textured showcase scene (builtin_showcase.cpp), not yet finalized.
+// The textured showcase scene (builtin_showcase.cpp), finalized.
 Result<std::unique_ptr<Scene>> make_showcase();
+
+// The Utah teapot as 32 spline patches, and the room of the seed's figure 16
+// (builtin_teapot.cpp), finalized.
+Result<std::unique_ptr<Scene>> make_teapot();
+Result<std::unique_ptr<Scene>> make_room();
 
 inline constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
 

@@ -42,9 +42,11 @@ struct Bin {
 
 class Builder {
  public:
-  Builder(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelConfig& config)
+  Builder(std::vector<PrimRef>& refs, uint32_t num_triangles, uint32_t first_patch,
+          const AccelConfig& config)
       : refs_(refs),
         num_triangles_(num_triangles),
+        first_patch_(first_patch),
         max_leaf_(std::clamp(config.max_leaf_size, 1, kMaxLeafSize)),
         bins_(std::clamp(config.sah_bins, 2, kMaxBins)) {}
 
@@ -54,11 +56,11 @@ class Builder {
     return r;
   }
 
-  bool is_triangle(uint32_t i) const { return refs_[i].id < num_triangles_; }
+  int kind(uint32_t i) const { return prim_kind(refs_[i].id, num_triangles_, first_patch_); }
 
   bool homogeneous(uint32_t begin, uint32_t end) const {
     for (uint32_t i = begin + 1; i < end; ++i)
-      if (is_triangle(i) != is_triangle(begin)) return false;
+      if (kind(i) != kind(begin)) return false;
     return true;
   }
 
@@ -99,7 +101,7 @@ class Builder {
       if (ch[i].leaf_ok) {
         nodes[index].child[i] = ch[i].begin;
         nodes[index].info[i] =
-            uint8_t(ch[i].count() | (is_triangle(ch[i].begin) ? 0 : kSphereLeafBit));
+            uint8_t(ch[i].count() | leaf_kind_bits(kind(ch[i].begin)));
         ++leaves;
       } else {
         const uint32_t c = build(ch[i], level + 1);  // may reallocate nodes
@@ -137,9 +139,11 @@ class Builder {
     const auto first = refs_.begin() + r.begin, last = refs_.begin() + r.end;
     const uint32_t n = r.count();
     if (n <= uint32_t(max_leaf_) && !homogeneous(r.begin, r.end)) {
-      // Mixed small set: separate triangles from spheres so each leaf has one kind.
-      const auto it = std::stable_partition(
-          first, last, [&](const PrimRef& p) { return p.id < num_triangles_; });
+      // Mixed small set: the first one's kind first, so each leaf ends up with one kind.
+      const int k0 = kind(r.begin);
+      const auto it = std::stable_partition(first, last, [&](const PrimRef& p) {
+        return prim_kind(p.id, num_triangles_, first_patch_) == k0;
+      });
       return finish(r, uint32_t(it - refs_.begin()), left, right);
     }
     Box cb;  // bounds of the doubled centroids lo + hi
@@ -217,16 +221,18 @@ class Builder {
 
   std::vector<PrimRef>& refs_;
   uint32_t num_triangles_;
+  uint32_t first_patch_;
   int max_leaf_;
   int bins_;
 };
 
 }  // namespace
 
-Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelConfig& config) {
+Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelConfig& config,
+                uint32_t first_patch) {
   Bvh8 out;
   if (refs.empty()) return out;
-  Builder root(refs, num_triangles, config);
+  Builder root(refs, num_triangles, first_patch, config);
   Box all;
   for (const PrimRef& p : refs) all.grow(p.lo, p.hi);
   root.nodes.emplace_back();
@@ -242,13 +248,13 @@ Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelC
     if (ch[i].leaf_ok) {
       root.nodes[0].child[i] = ch[i].begin;
       root.nodes[0].info[i] =
-          uint8_t(ch[i].count() | (root.is_triangle(ch[i].begin) ? 0 : kSphereLeafBit));
+          uint8_t(ch[i].count() | leaf_kind_bits(root.kind(ch[i].begin)));
       ++root.leaves;
     } else {
       inner.push_back(i);
     }
   }
-  std::vector<Builder> subs(inner.size(), Builder(refs, num_triangles, config));
+  std::vector<Builder> subs(inner.size(), Builder(refs, num_triangles, first_patch, config));
   auto build_one = [&](size_t k) { subs[k].build(ch[inner[k]], 2); };
   if (config.parallel_for && refs.size() > 65536) {
     config.parallel_for(inner.size(), build_one);
@@ -276,8 +282,8 @@ Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelC
 
   // Leaves point into refs; remap to the index within their kind's permuted array.
   std::vector<uint32_t> rank(refs.size());
-  uint32_t tri = 0, sph = 0;
-  for (size_t i = 0; i < refs.size(); ++i) rank[i] = refs[i].id < num_triangles ? tri++ : sph++;
+  uint32_t next[3] = {0, 0, 0};
+  for (size_t i = 0; i < refs.size(); ++i) rank[i] = next[prim_kind(refs[i].id, num_triangles, first_patch)]++;
   for (Bvh8Node& node : out.nodes)
     for (int i = 0; i < kBvhWidth; ++i)
       if (node.info[i] != 0) node.child[i] = rank[node.child[i]];

@@ -9,7 +9,8 @@
 
 namespace frameless {
 
-// Bounds of one primitive; id < num_triangles is a triangle, otherwise a sphere.
+// Bounds of one primitive; id < num_triangles is a triangle, then spheres up to first_patch,
+// then spline patches.
 struct PrimRef {
   Vec3 lo{0.0f};
   uint32_t id = 0;
@@ -24,8 +25,17 @@ struct Bvh8 {
 };
 
 // Builds over refs and leaves refs in leaf order: the triangles of refs (in order) are the
-// permuted triangle array, likewise the spheres, and leaf child indices point into those arrays.
-// Every leaf holds primitives of one kind only.
-Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelConfig& config);
+// permuted triangle array, likewise the spheres and patches, and leaf child indices point into
+// those arrays. Every leaf holds primitives of one kind only. first_patch defaults to "none".
+Bvh8 build_bvh8(std::vector<PrimRef>& refs, uint32_t num_triangles, const AccelConfig& config,
+                uint32_t first_patch = 0xffffffffu);
+
+// Kind of primitive id: 0 triangle, 1 sphere, 2 patch.
+inline int prim_kind(uint32_t id, uint32_t num_triangles, uint32_t first_patch) {
+  return id < num_triangles ? 0 : id < first_patch ? 1 : 2;
+}
+inline uint8_t leaf_kind_bits(int kind) {
+  return kind == 0 ? uint8_t(0) : kind == 1 ? kSphereLeafBit : kPatchLeafBit;
+}
 
 }  // namespace frameless

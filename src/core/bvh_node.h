@@ -8,13 +8,17 @@
 namespace frameless {
 
 inline constexpr int kBvhWidth = 8;
-// Bit of Bvh8Node::info marking a sphere leaf; the low 7 bits hold the primitive count.
+// Bits of Bvh8Node::info marking a sphere or a spline-patch leaf; the low 6 bits hold the
+// primitive count.
 inline constexpr uint8_t kSphereLeafBit = 0x80;
-inline constexpr int kMaxLeafSize = 127;
+inline constexpr uint8_t kPatchLeafBit = 0x40;
+inline constexpr uint8_t kLeafCountMask = 0x3f;
+inline constexpr int kMaxLeafSize = 63;
 
 // Eight child boxes in SoA order for one AVX2 box test (one cache line per plane pair), then
 // the child references. info[i] == 0: child[i] is a node index; otherwise child[i] is a leaf:
-// the first of (info[i] & 0x7f) consecutive triangles, or spheres when kSphereLeafBit is set.
+// the first of (info[i] & kLeafCountMask) consecutive triangles, or spheres when kSphereLeafBit
+// is set, or patches when kPatchLeafBit is set.
 // Unused slots hold an empty box (lo = +inf, hi = -inf), which no ray can enter.
 struct alignas(64) Bvh8Node {
   float bounds[6][kBvhWidth];  // lo_x, hi_x, lo_y, hi_y, lo_z, hi_z

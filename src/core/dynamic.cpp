@@ -136,6 +136,7 @@ SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, 
   const uint32_t i = hit.prim - kDynamicPrimBase;
   const Sphere& s = frame->spheres[i];
   SurfacePoint sp;
+  sp.prim = hit.prim;
   Vec3 n = ray.org + hit.t * ray.dir - s.center;
   const float len = glm::length(n);
   n = len > 0.0f && std::isfinite(len) ? n / len : -ray.dir;

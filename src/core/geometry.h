@@ -2,18 +2,22 @@
 #pragma once
 #include <vector>
 
+#include "core/bezier.h"
 #include "core/types.h"
 
 namespace frameless {
+
+inline constexpr int kPatchShadowGrid = 6;
 
 struct Sphere {
   Vec3 center{0.0f};
   float radius = 1.0f;
 };
 
-// All primitives of a scene. Primitive id p < num_triangles() is triangle p, otherwise
-// sphere p - num_triangles(). The acceleration-structure build may permute the triangle and
-// sphere arrays (together with their material arrays) for locality.
+// All primitives of a scene. Primitive id p < num_triangles() is triangle p, then come the
+// spheres (p - num_triangles()), then the spline patches (p - num_triangles() - num_spheres()).
+// The acceleration-structure build may permute the triangle, sphere and patch arrays (together
+// with their material arrays) for locality.
 struct Geometry {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;  // per-vertex shading normals: empty, or one per position
@@ -26,10 +30,25 @@ struct Geometry {
   std::vector<UVec3> triangle_opposite;
   std::vector<Sphere> spheres;
   std::vector<uint16_t> sphere_material;
+  // Bicubic Bézier patches, each with its own bottom-up BVH (seed section 3.3, core/bezier.h).
+  std::vector<PatchSurface> patches;
+  std::vector<uint16_t> patch_material;
+  // Soft shadows only (empty otherwise): per patch, (kPatchShadowGrid + 1)^2 surface points on a
+  // regular (u, v) grid, the occluder the cone query sees (core/soft_shadow.cpp).
+  std::vector<Vec3> patch_shadow_grid;
 
   uint32_t num_triangles() const { return uint32_t(triangles.size()); }
   uint32_t num_spheres() const { return uint32_t(spheres.size()); }
-  uint32_t num_primitives() const { return num_triangles() + num_spheres(); }
+  uint32_t num_patches() const { return uint32_t(patches.size()); }
+  uint32_t first_patch() const { return num_triangles() + num_spheres(); }
+  uint32_t num_primitives() const { return num_triangles() + num_spheres() + num_patches(); }
+  // Material of primitive `prim` (0 where the kind has no material array).
+  uint16_t material_of(uint32_t prim) const {
+    const uint32_t nt = num_triangles(), fp = first_patch();
+    const std::vector<uint16_t>& m = prim < nt ? triangle_material : prim < fp ? sphere_material : patch_material;
+    const uint32_t i = prim < nt ? prim : prim < fp ? prim - nt : prim - fp;
+    return i < m.size() ? m[i] : 0;
+  }
 };
 
 }  // namespace frameless

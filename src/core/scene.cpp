@@ -5,6 +5,25 @@
 #include "core/texturing.h"
 
 namespace frameless {
+namespace {
+
+// Builds the structure the settings ask for. The grid has no cut-out test, so scenes with alpha
+// cut-outs keep the BVH. Auto gets the scene's own trial: camera rays and shadow rays.
+void build_accel(Scene& scene, const AccelConfig& base) {
+  AccelConfig config = base;
+  config.kind = scene.features.has_cutouts ? AccelKind::kBvh : scene.settings.accel;
+  if (config.kind == AccelKind::kAuto) {
+    constexpr int kW = 64, kH = 48;
+    const CameraBasis b = make_camera_basis(scene.camera, kW, kH);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) config.trial_rays.push_back(camera_ray(b, x + 0.5f, y + 0.5f));
+    for (const Light& l : scene.lights)
+      if (l.kind == LightKind::kPoint) config.trial_lights.push_back(l.position);
+  }
+  scene.accel.build(scene.geometry, config);
+}
+
+}  // namespace
 
 const char* material_class_name(MaterialClass c) {
   switch (c) {
@@ -35,7 +54,20 @@ void finalize_scene(Scene& scene, const AccelConfig& config) {
   } else {
     scene.geometry.triangle_opposite = {};
   }
-  scene.accel.build(scene.geometry, config);
+  build_accel(scene, config);
+  // Patch shadow grids follow the patches' order, which the build may permute.
+  if (scene.features.has_soft_lights && scene.geometry.num_patches() > 0)
+    build_patch_shadow_grid(scene.geometry);
+  else
+    scene.geometry.patch_shadow_grid = {};
+  install_alpha_test(scene);
+}
+
+void set_accel(Scene& scene, AccelKind kind, const AccelConfig& config) {
+  if (scene.settings.accel == kind && scene.accel.stats().structure == kind) return;
+  scene.settings.accel = kind;
+  build_accel(scene, config);
+  if (!scene.geometry.patch_shadow_grid.empty()) build_patch_shadow_grid(scene.geometry);
   install_alpha_test(scene);
 }
 
@@ -48,6 +80,9 @@ void set_shadow_settings(Scene& scene, ShadowMode mode, int samples, bool transp
   if (scene.features.has_soft_lights &&
       scene.geometry.triangle_opposite.size() != scene.geometry.triangles.size())
     build_triangle_adjacency(scene.geometry);
+  if (scene.features.has_soft_lights && scene.geometry.patch_shadow_grid.empty() &&
+      scene.geometry.num_patches() > 0)
+    build_patch_shadow_grid(scene.geometry);
 }
 
 bool scene_bounds(const Geometry& g, Vec3& lo, Vec3& hi) {
@@ -61,6 +96,10 @@ bool scene_bounds(const Geometry& g, Vec3& lo, Vec3& hi) {
   for (const Sphere& s : g.spheres) {
     lo = glm::min(lo, s.center - Vec3(s.radius));
     hi = glm::max(hi, s.center + Vec3(s.radius));
+  }
+  for (const PatchSurface& p : g.patches) {
+    lo = glm::min(lo, p.lo());
+    hi = glm::max(hi, p.hi());
   }
   return g.num_primitives() > 0;
 }

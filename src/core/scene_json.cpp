@@ -11,6 +11,7 @@
 #include "core/scene_io.h"
 #include "core/scene_json_materials.h"
 #include "core/scene_json_motion.h"
+#include "core/scene_json_patches.h"
 
 namespace frameless {
 namespace scene_json {
@@ -77,7 +78,9 @@ void parse_camera(const json& j, Scene& s) {
 void parse_settings(const json& j, RenderSettings& r) {
   require_object(j, "settings");
   check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background",
-                             "seed", "shadows", "shadow_samples", "transparent_shadows"});
+                             "seed", "shadows", "shadow_samples", "transparent_shadows", "accel"});
+  if (j.contains("accel") && !parse_accel_kind(get_string(j["accel"], "settings.accel"), r.accel))
+    fail("settings.accel", "unknown structure '" + j["accel"].get<std::string>() + "' (bvh, grid or auto)");
   if (j.contains("shadows")) {
     const std::string m = get_string(j["shadows"], "settings.shadows");
     if (m == "soft") r.shadows = ShadowMode::kSoft;
@@ -273,6 +276,9 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
   } else if (type == "triangles") {
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
     parse_triangles(o, f, ctx, object_material(o, f, ctx, m), m);
+  } else if (type == "bezier") {
+    const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
+    parse_bezier(o, f, s, ctx.base_dir, object_material(o, f, ctx, m), m);
   } else if (type == "plane") {
     check_keys(o, f, {"type", "point", "normal", "size", "material"});
     const Vec3 p = get_vec3(need(o, f, "point"), f + ".point");
@@ -287,7 +293,7 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) fail(f, "box min must be below max on every axis");
     add_box(s, lo, hi, object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi))));
   } else {
-    fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, plane or box)");
+    fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, bezier, plane or box)");
   }
 }
 

@@ -61,7 +61,8 @@ ShadeContext make_context(const Scene& scene, uint64_t rng_seed, const DynamicFr
 // Shadow factor of a light with an extent, or with transparent shadows (cold path: kept out of
 // line so the hard-shadow loop stays small). Returns s (per channel when dielectrics tint it).
 Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& origin,
-                         const Vec3& l, float tmax, float tan_half, float half_angle) {
+                         const Vec3& l, float tmax, float tan_half, float half_angle,
+                         uint32_t receiver) {
   const RenderSettings& st = c.scene.settings;
   ShadowQuery q;
   q.org = origin;
@@ -70,6 +71,7 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
   q.tan_half = tan_half;
   q.half_angle = half_angle;
   q.skip_dielectrics = st.transparent_shadows;
+  q.receiver = receiver;
   Ray ray;
   ray.org = origin;
   ray.dir = l;
@@ -129,7 +131,7 @@ template <class F>
       continue;
     }
     if (transparent || (extended_mode && light.has_extent())) {
-      const Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle);
+      const Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle, sp.prim);
       if (max_component(s) > 0.0f) f(light.color * s, l, nl);
       continue;
     }

@@ -102,10 +102,11 @@ class SoftQuery final : public Accel::ConeVisitor {
   }
 
   bool leaf(uint32_t first, uint32_t count) override {
-    const uint32_t nt = g_.num_triangles();
+    const uint32_t nt = g_.num_triangles(), fp = g_.first_patch();
     for (uint32_t p = first; p < first + count; ++p) {
-      const bool stop =
-          p < nt ? triangle(p) : sphere(g_.spheres[p - nt], material_of(g_.sphere_material, p - nt), p);
+      const bool stop = p < nt   ? triangle(p)
+                        : p < fp ? sphere(g_.spheres[p - nt], material_of(g_.sphere_material, p - nt), p)
+                                 : patch(p - fp);
       if (stop) return false;
     }
     return true;
@@ -164,6 +165,34 @@ class SoftQuery final : public Accel::ConeVisitor {
 
   Vec3 direction(P2 p) const { return glm::normalize(q_.dir + p.x * b1_ + p.y * b2_); }
 
+  // A spline patch occludes through its shadow grid (kPatchShadowGrid^2 quads on the surface,
+  // Geometry::patch_shadow_grid). Its inner edges are not outlines for unblocked rays (the least
+  // distance to the union is the least to a part), and blocked rays confirm an outline by a probe
+  // against the true patch, so the grid only shapes the penumbra.
+  bool patch(uint32_t i) {
+    const uint16_t m = material_of(g_.patch_material, i);
+    const size_t per = size_t(kPatchShadowGrid + 1) * (kPatchShadowGrid + 1);
+    // The receiver's own patch shadows it exactly: its grid's chords would shadow its surface.
+    if (skip_material(m) || g_.patch_shadow_grid.size() < (i + 1) * per ||
+        q_.receiver == g_.first_patch() + i) {
+      // Without a grid (or cut out): the hard shadow of the true surface.
+      const PatchSurface& ps = g_.patches[i];
+      const float tmin = 1e-5f * max_component(ps.hi() - ps.lo());  // as Accel: not its own start
+      if (!skip_material(m) && ps.occluded(ray_, tmin, q_.tmax)) return zero_ = true;
+      return false;
+    }
+    const Vec3* grid = g_.patch_shadow_grid.data() + i * per;
+    const int n = kPatchShadowGrid + 1;
+    for (int y = 0; y < kPatchShadowGrid; ++y)
+      for (int x = 0; x < kPatchShadowGrid; ++x) {
+        const Vec3 a = grid[y * n + x], b = grid[y * n + x + 1], c = grid[(y + 1) * n + x + 1],
+                   d = grid[(y + 1) * n + x];
+        const Vec3 t0[3] = {a, b, c}, t1[3] = {a, c, d};
+        if (corners(t0, nullptr) || corners(t1, nullptr)) return true;
+      }
+    return false;
+  }
+
   // Returns true when s = 0 is certain (the ray meets an inner object).
   bool triangle(uint32_t i) {
     const uint16_t m = material_of(g_.triangle_material, i);
@@ -180,8 +209,20 @@ class SoftQuery final : public Accel::ConeVisitor {
       return false;
     }
     const UVec3 t = g_.triangles[i];
-    const Vec3 w[3] = {g_.positions[t.x] - q_.org, g_.positions[t.y] - q_.org,
-                       g_.positions[t.z] - q_.org};
+    const Vec3 p[3] = {g_.positions[t.x], g_.positions[t.y], g_.positions[t.z]};
+    // Across each edge, the neighbour's far vertex (null: an open edge, or no adjacency built).
+    const Vec3* opposite[3] = {nullptr, nullptr, nullptr};
+    if (!g_.triangle_opposite.empty())
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t o = g_.triangle_opposite[i][e];
+        if (o != kInvalidId) opposite[e] = &g_.positions[o];
+      }
+    return corners(p, opposite);
+  }
+
+  // The cone query against one triangle with corners p, given each edge's neighbour (or null).
+  bool corners(const Vec3 p[3], const Vec3* const* opposite) {
+    const Vec3 w[3] = {p[0] - q_.org, p[1] - q_.org, p[2] - q_.org};
     // The whole cone on one side of the triangle's plane: it cannot cover any of the light. This
     // drops the receiver's own surface and walls the light faces, the common cases, cheaply.
     {
@@ -214,39 +255,34 @@ class SoftQuery final : public Accel::ConeVisitor {
       n = clip_polygon(w, poly, edge_id);
       if (n < 3) return false;
     }
-    P2 p[5];
+    P2 q[5];
     for (int k = 0; k < n; ++k) {
       // Clipped corners are recomputed: keep their depth at the near clip despite rounding.
       const float d = std::max(glm::dot(poly[k], q_.dir), z_min_);
-      p[k] = {glm::dot(poly[k], b1_) / d, glm::dot(poly[k], b2_) / d};
+      q[k] = {glm::dot(poly[k], b1_) / d, glm::dot(poly[k], b2_) / d};
     }
     float u, v, th;
-    const bool inside = intersect_triangle(tri_ray_, g_.positions[t.x], g_.positions[t.y],
-                                           g_.positions[t.z], 0.0f, q_.tmax, th, u, v);
+    const bool inside = intersect_triangle(tri_ray_, p[0], p[1], p[2], 0.0f, q_.tmax, th, u, v);
     // Orientation of the projected polygon, to find each edge's outward side.
     float area2 = 0.0f;
     for (int k = 0; k < n; ++k) {
-      const P2 a = p[k], b = p[(k + 1) % n];
+      const P2 a = q[k], b = q[(k + 1) % n];
       area2 += a.x * b.y - a.y * b.x;
     }
     const float out_sign = area2 > 0.0f ? 1.0f : -1.0f;
     const float tan_half = q_.tan_half;
     float min_d = kInfinity;
-    const bool adjacency = !g_.triangle_opposite.empty();
     for (int k = 0; k < n; ++k) {
-      const P2 a = p[k], b = p[(k + 1) % n];
+      const P2 a = q[k], b = q[(k + 1) % n];
       P2 c;
       const float d = segment_distance(a, b, c);
       min_d = std::min(min_d, d);
       const int e = edge_id[k];
       if (e < 0 || !(d < tan_half)) continue;
       // An interior edge of a mesh is not an outline: the neighbour continues the surface.
-      if (adjacency) {
-        const uint32_t opp = g_.triangle_opposite[i][e];
-        if (opp != kInvalidId) {
-          const float side = det3(w[e], w[(e + 1) % 3], g_.positions[opp] - q_.org);
-          if ((side > 0.0f) != (orient > 0.0f) && side != 0.0f) continue;
-        }
+      if (opposite && opposite[e]) {
+        const float side = det3(w[e], w[(e + 1) % 3], *opposite[e] - q_.org);
+        if ((side > 0.0f) != (orient > 0.0f) && side != 0.0f) continue;
       }
       // Outward normal of edge ab in the plane: to the right of a->b for a counter-clockwise
       // polygon, so the probe lands just outside this triangle.
@@ -455,6 +491,17 @@ Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque
     if (!(r.tmax > 0.0f)) return tr;
   }
   return tr;
+}
+
+void build_patch_shadow_grid(Geometry& g) {
+  const int n = kPatchShadowGrid + 1;
+  g.patch_shadow_grid.clear();
+  g.patch_shadow_grid.reserve(g.patches.size() * size_t(n) * n);
+  for (const PatchSurface& ps : g.patches)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        g.patch_shadow_grid.push_back(
+            bezier_eval(ps.patch(), float(x) / kPatchShadowGrid, float(y) / kPatchShadowGrid));
 }
 
 void build_triangle_adjacency(Geometry& g) {

@@ -17,6 +17,7 @@ struct ShadowQuery {
   float tan_half = 0.0f;
   float half_angle = 0.0f;
   bool skip_dielectrics = false;  // transparent shadows: dielectrics are handled by transmittance
+  uint32_t receiver = kInvalidId;  // primitive the query starts on (a patch shadows itself exactly)
 };
 
 // Fraction of a uniformly bright disk left visible by a straight edge at signed distance x
@@ -41,5 +42,9 @@ Vec3 shadow_transmittance(const Scene& scene, const Ray& ray, bool ignore_opaque
 
 // Builds Geometry::triangle_opposite (edge adjacency by vertex position) for soft shadows.
 void build_triangle_adjacency(Geometry& geom);
+
+// Builds Geometry::patch_shadow_grid (each patch's occluder for soft shadows), in the patches'
+// current order.
+void build_patch_shadow_grid(Geometry& geom);
 
 }  // namespace frameless

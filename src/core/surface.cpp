@@ -20,6 +20,7 @@ Vec3 normalize_or(const Vec3& v, const Vec3& fallback) {
 
 SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit) {
   SurfacePoint sp;
+  sp.prim = hit.prim;
   const Vec3 back = -ray.dir;
   const uint32_t ntri = geom.num_triangles();
   if (hit.prim < ntri) {
@@ -45,6 +46,17 @@ SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit)
     sp.material = geom.triangle_material.empty() ? 0 : geom.triangle_material[hit.prim];
     const Vec3 mag = glm::max(glm::abs(p0), glm::max(glm::abs(p1), glm::abs(p2)));
     sp.scale = max_component(mag);
+  } else if (hit.prim >= geom.first_patch()) {
+    // Spline patch: position and normal from the patch at the root Broyden found (u, v).
+    const uint32_t i = hit.prim - geom.first_patch();
+    const PatchSurface& ps = geom.patches[i];
+    sp.p = bezier_eval(ps.patch(), hit.u, hit.v);
+    const Vec3 n = normalize_or(bezier_normal(ps.patch(), hit.u, hit.v), back);
+    sp.front_face = glm::dot(n, ray.dir) < 0.0f;
+    sp.ng = sp.front_face ? n : -n;
+    sp.ns = sp.ng;
+    sp.material = i < geom.patch_material.size() ? geom.patch_material[i] : 0;
+    sp.scale = max_component(glm::max(glm::abs(ps.lo()), glm::abs(ps.hi())));
   } else {
     const uint32_t i = hit.prim - ntri;
     const Sphere& s = geom.spheres[i];

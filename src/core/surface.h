@@ -11,6 +11,7 @@ struct SurfacePoint {
   Vec3 ns{0.0f};  // unit shading normal, same hemisphere as ng
   bool front_face = true;  // the ray hit the outward side
   uint16_t material = 0;
+  uint32_t prim = kInvalidId;  // the primitive hit (Hit::prim)
   // Largest coordinate magnitude of the primitive (vertices, or sphere centre + radius): the
   // rounding of any intersection test with it scales with this, so origin offsets must too.
   float scale = 0.0f;

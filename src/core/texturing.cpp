@@ -7,12 +7,7 @@ namespace frameless {
 
 namespace {
 
-uint16_t material_id(const Geometry& g, uint32_t prim) {
-  const uint32_t nt = g.num_triangles();
-  const std::vector<uint16_t>& mats = prim < nt ? g.triangle_material : g.sphere_material;
-  const uint32_t i = prim < nt ? prim : prim - nt;
-  return mats.empty() ? 0 : mats[i];
-}
+uint16_t material_id(const Geometry& g, uint32_t prim) { return g.material_of(prim); }
 
 // Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later)
 // and its handedness: -1 where the UVs are mirrored, so dp/dv runs against n x dp/du.
@@ -76,6 +71,7 @@ Vec2 hit_uv(const Geometry& g, const Ray& ray, const Hit& hit) {
     const float w0 = 1.0f - hit.u - hit.v;
     return w0 * g.uvs[t.x] + hit.u * g.uvs[t.y] + hit.v * g.uvs[t.z];
   }
+  if (hit.prim >= g.first_patch()) return Vec2(hit.u, hit.v);  // the patch's own parameters
   const Sphere& s = g.spheres[hit.prim - nt];
   const Vec3 d = ray.org + hit.t * ray.dir - s.center;
   const float len = glm::length(d);
@@ -105,6 +101,12 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
   UvTangent frame;
   if (hit.prim < nt) {
     frame = triangle_dpdu(scene.geometry, hit.prim, outward);
+  } else if (hit.prim >= scene.geometry.first_patch()) {
+    Vec3 du, dv;  // dP/du of the patch is the tangent along u
+    bezier_eval(scene.geometry.patches[hit.prim - scene.geometry.first_patch()].patch(), hit.u,
+                hit.v, &du, &dv);
+    frame.dpdu = glm::dot(du, du) > 0.0f ? du : glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);
+    frame.handedness = glm::dot(glm::cross(du, dv), outward) < 0.0f ? -1.0f : 1.0f;
   } else {
     frame.dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
     if (!(glm::dot(frame.dpdu, frame.dpdu) > 0.0f)) frame.dpdu = Vec3(1.0f, 0.0f, 0.0f);
