@@ -36,6 +36,9 @@ void ShadowFlags::add_to(CLI::App& app) {
   app.add_option("--shadow-samples", samples, "rays per light for --shadows area (1..4096)");
   app.add_flag("--transparent-shadows", transparent,
                "dielectrics attenuate shadow rays (k_t and absorption) instead of blocking them");
+  app.add_option("--accel", accel,
+                 "acceleration structure: bvh (default), grid (Parker's hybrid grid) or auto "
+                 "(whichever does less work on a trial of the scene's rays)");
 }
 
 bool ShadowFlags::apply(Scene& scene, std::string& error) const {
@@ -56,6 +59,14 @@ bool ShadowFlags::apply(Scene& scene, std::string& error) const {
     n = *samples;
   }
   set_shadow_settings(scene, m, n, transparent || scene.settings.transparent_shadows);
+  if (!accel.empty()) {
+    AccelKind kind;
+    if (!parse_accel_kind(accel, kind)) {
+      error = "--accel: expected bvh, grid or auto, got '" + accel + "'";
+      return false;
+    }
+    set_accel(scene, kind);
+  }
   return true;
 }
 

@@ -27,6 +27,7 @@ struct ShadowFlags {
   std::string mode;
   std::optional<int> samples;
   bool transparent = false;
+  std::string accel;  // --accel bvh|grid|auto (empty: the scene's setting)
   void add_to(CLI::App& app);
   // Applies the flags to a loaded scene; false with a one-line message when invalid.
   bool apply(Scene& scene, std::string& error) const;

@@ -10,7 +10,9 @@
 #include <immintrin.h>
 #endif
 
+#include "core/accel_impl.h"
 #include "core/bvh_build.h"
+#include "core/bvh_build_spheres.h"
 #include "core/intersect_sphere.h"
 #include "core/intersect_triangle.h"
 
@@ -42,55 +44,64 @@ void permute(std::vector<T>& v, const std::vector<PrimRef>& refs, uint32_t base,
 
 }  // namespace
 
-struct Accel::Impl {
-  const Geometry* geom = nullptr;
-  std::vector<Bvh8Node> nodes;
-  AccelStats stats;
-  AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces
-};
-
 Accel::Accel() : impl_(std::make_unique<Impl>()) {}
 Accel::~Accel() = default;
 Accel::Accel(Accel&&) noexcept = default;
 Accel& Accel::operator=(Accel&&) noexcept = default;
 
-void Accel::build(Geometry& geom, const AccelConfig& config) {
+void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.geom = &geom;
-  const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres();
-  std::vector<PrimRef> refs(size_t(nt) + ns);
-  for (uint32_t i = 0; i < nt; ++i) {
-    const UVec3 t = geom.triangles[i];
-    PrimRef& r = refs[i];
-    r.id = i;
-    if (t.x < geom.positions.size() && t.y < geom.positions.size() && t.z < geom.positions.size()) {
-      const Vec3 &a = geom.positions[t.x], &b = geom.positions[t.y], &c = geom.positions[t.z];
-      r.lo = glm::min(a, glm::min(b, c));
-      r.hi = glm::max(a, glm::max(b, c));
+  std::vector<Bvh8Node>().swap(im.nodes);  // a rebuild must not hold two trees at its peak
+  Bvh8 bvh;
+  if (geom.num_triangles() == 0 && geom.num_patches() == 0) {
+    // Sphere-only geometry: built in place (a sphere is its own bounds), no reference array.
+    bvh = build_bvh8_spheres(geom.spheres, geom.sphere_material, config);
+  } else {
+    const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres(), np = geom.num_patches();
+    std::vector<PrimRef> refs(size_t(nt) + ns + np);
+    for (uint32_t i = 0; i < nt; ++i) {
+      const UVec3 t = geom.triangles[i];
+      PrimRef& r = refs[i];
+      r.id = i;
+      if (t.x < geom.positions.size() && t.y < geom.positions.size() && t.z < geom.positions.size()) {
+        const Vec3 &a = geom.positions[t.x], &b = geom.positions[t.y], &c = geom.positions[t.z];
+        r.lo = glm::min(a, glm::min(b, c));
+        r.hi = glm::max(a, glm::max(b, c));
+      }
+      // Non-finite or out-of-range triangles keep a point box at the origin; their test misses.
+      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
     }
-    // Non-finite or out-of-range triangles keep a point box at the origin; their test misses.
-    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
+    for (uint32_t i = 0; i < ns; ++i) {
+      const Sphere& s = geom.spheres[i];
+      PrimRef& r = refs[nt + i];
+      r.id = nt + i;
+      r.lo = s.center - Vec3(std::abs(s.radius));
+      r.hi = s.center + Vec3(std::abs(s.radius));
+      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
+    }
+    for (uint32_t i = 0; i < np; ++i) {
+      PrimRef& r = refs[size_t(nt) + ns + i];
+      r.id = nt + ns + i;
+      r.lo = geom.patches[i].lo();
+      r.hi = geom.patches[i].hi();
+      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
+    }
+    bvh = build_bvh8(refs, nt, config, nt + ns);
+    // Store primitives in leaf order so a leaf is a contiguous run (no index indirection).
+    permute(geom.triangles, refs, 0, nt);
+    permute(geom.triangle_material, refs, 0, nt);
+    permute(geom.triangle_opposite, refs, 0, nt);
+    permute(geom.spheres, refs, nt, ns);
+    permute(geom.sphere_material, refs, nt, ns);
+    permute(geom.patches, refs, nt + ns, np);
+    permute(geom.patch_material, refs, nt + ns, np);
   }
-  for (uint32_t i = 0; i < ns; ++i) {
-    const Sphere& s = geom.spheres[i];
-    PrimRef& r = refs[nt + i];
-    r.id = nt + i;
-    r.lo = s.center - Vec3(std::abs(s.radius));
-    r.hi = s.center + Vec3(std::abs(s.radius));
-    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-  }
-  Bvh8 bvh = build_bvh8(refs, nt, config);
   if (bvh.depth * (kBvhWidth - 1) + 1 > kStackSize) {
     std::fprintf(stderr, "frameless: accel: BVH depth %d exceeds the traversal stack\n", bvh.depth);
     std::abort();
   }
-  // Store primitives in leaf order so a leaf is a contiguous run (no index indirection).
-  permute(geom.triangles, refs, 0, nt);
-  permute(geom.triangle_material, refs, 0, nt);
-  permute(geom.triangle_opposite, refs, 0, nt);
-  permute(geom.spheres, refs, nt, ns);
-  permute(geom.sphere_material, refs, nt, ns);
   im.nodes = std::move(bvh.nodes);
 
   AccelStats& s = im.stats;
@@ -102,7 +113,9 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   s.geometry_bytes = geom.positions.size() * sizeof(Vec3) + geom.triangles.size() * sizeof(UVec3) +
                      geom.triangle_material.size() * sizeof(uint16_t) +
                      geom.spheres.size() * sizeof(Sphere) +
-                     geom.sphere_material.size() * sizeof(uint16_t);
+                     geom.sphere_material.size() * sizeof(uint16_t) +
+                     geom.patch_material.size() * sizeof(uint16_t);
+  for (const PatchSurface& p : geom.patches) s.geometry_bytes += p.bytes();
   s.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -173,16 +186,12 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 // Whether a candidate hit on prim survives the cut-out test (always, without cut-outs).
 inline bool alpha_opaque(const Accel::AlphaTest& a, const Geometry& g, uint32_t prim,
                          const Ray& ray, float t, float u, float v) {
-  const uint32_t nt = g.num_triangles();
-  const std::vector<uint16_t>& mats = prim < nt ? g.triangle_material : g.sphere_material;
-  const uint32_t i = prim < nt ? prim : prim - nt;
-  const uint16_t m = mats.empty() ? 0 : mats[i];
-  return !a.masked_material[m] || a.opaque(a.ctx, prim, ray, t, u, v);
+  return !a.masked_material[g.material_of(prim)] || a.opaque(a.ctx, prim, ray, t, u, v);
 }
 
-template <bool kAnyHit>
+template <bool kAnyHit, bool kCount = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
-              Hit& hit, const Accel::AlphaTest& alpha) {
+              Hit& hit, const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
   const Vec3* pos = g.positions.data();
@@ -205,6 +214,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
   for (;;) {
     if (info == 0) {
       const Bvh8Node& node = nodes[ref];
+      if constexpr (kCount) ++counts->nodes;
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
       if (mask != 0) {
@@ -244,8 +254,37 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
           continue;
         }
       }
+    } else if (info & kPatchLeafBit) {
+      // Spline patches: each walks its own bottom-up BVH to Broyden's method (core/bezier.h).
+      const uint32_t count = info & kLeafCountMask, first = g.first_patch();
+      if constexpr (kCount) counts->prims += count;
+      for (uint32_t k = 0; k < count; ++k) {
+        const PatchSurface& ps = g.patches[ref + k];
+        // Broyden's roots carry a relative error of about 1e-6 of the patch: a ray leaving the
+        // surface must not find its own start again, so roots this close are not hits.
+        const float tmin_p = std::max(tmin, 1e-5f * max_component(ps.hi() - ps.lo()));
+        if constexpr (kAnyHit) {
+          if (!alpha.opaque) {
+            if (ps.occluded(ray, tmin_p, tmax)) return true;
+            continue;
+          }
+        }
+        float t, u, v;
+        if (ps.intersect(ray, tmin_p, tmax, t, u, v)) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, first + ref + k, ray, t, u, v)) continue;
+          if constexpr (kAnyHit) return true;
+          tmax = t;
+          tmax_box = t * kRobustFar;
+          hit.t = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = first + ref + k;
+          found = true;
+        }
+      }
     } else if (info & kSphereLeafBit) {
-      const uint32_t count = info & 0x7f;
+      const uint32_t count = info & kLeafCountMask;
+      if constexpr (kCount) counts->prims += count;
       for (uint32_t k = 0; k < count; ++k) {
         float t;
         if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax, t)) {
@@ -261,6 +300,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
         }
       }
     } else {
+      if constexpr (kCount) counts->prims += info;
       for (uint32_t k = 0; k < info; ++k) {
         const UVec3 tri = tris[ref + k];
         float t, u, v;
@@ -293,12 +333,27 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
 }  // namespace
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  if (impl_->grid) return impl_->grid->intersect(ray, hit);
   return impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
 }
 
 bool Accel::occluded(const Ray& ray) const {
+  if (impl_->grid) return impl_->grid->occluded(ray);
   Hit unused;
   return impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha);
+}
+
+bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
+  if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
+  return impl_->geom &&
+         traverse<false, true>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha, &counts);
+}
+
+bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
+  if (impl_->grid) return impl_->grid->occluded(ray, &counts);
+  Hit unused;
+  return impl_->geom &&
+         traverse<true, true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }
@@ -368,6 +423,7 @@ inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r
 
 bool Accel::visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) const {
   const Impl& im = *impl_;
+  if (im.grid) return im.grid->visit_cone(ray, tan_half, visitor);
   if (!im.geom || im.nodes.empty()) return true;
   const BoxRay br = make_box_ray(ray);
   const float tmax = ray.tmax * kRobustFar;
@@ -385,8 +441,10 @@ bool Accel::visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) con
         mask &= mask - 1;
         stack[sp++] = {node.child[j], node.info[j], 0.0f};
       }
+    } else if (e.info & kPatchLeafBit) {
+      if (!visitor.leaf(im.geom->first_patch() + e.ref, e.info & kLeafCountMask)) return false;
     } else if (e.info & kSphereLeafBit) {
-      if (!visitor.leaf(nt + e.ref, e.info & 0x7f)) return false;
+      if (!visitor.leaf(nt + e.ref, e.info & kLeafCountMask)) return false;
     } else {
       if (!visitor.leaf(e.ref, e.info)) return false;
     }

@@ -4,13 +4,36 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "core/geometry.h"
 #include "core/ray.h"
 
 namespace frameless {
 
+// Which acceleration structure a scene uses (seed section 2): the 8-wide BVH, Parker's hybrid
+// grid (a uniform grid whose crowded cells hold small BVHs, core/grid_accel.h), or whichever
+// does less work on a fixed trial of the scene's own rays (docs/accel.md).
+enum class AccelKind : uint8_t { kBvh, kGrid, kAuto };
+const char* accel_kind_name(AccelKind k);
+bool parse_accel_kind(const std::string& name, AccelKind& out);  // "bvh", "grid" or "auto"
+
+// Work counters of traversals (the auto trial): node visits and primitive tests.
+struct TraversalCounts {
+  uint64_t nodes = 0;  // BVH: 8-wide nodes entered; grid: cells stepped + cell-BVH nodes
+  uint64_t prims = 0;  // primitive tests
+};
+
 struct AccelConfig {
+  AccelKind kind = AccelKind::kBvh;
+  float grid_density = 2.0f;    // grid: target cells per primitive
+  int grid_bvh_threshold = 16;  // grid: cells with more primitives get their own BVH
+  // Auto: the trial's camera rays, and the light positions their hits cast shadow rays to
+  // (finalize_scene makes both from the scene's camera and lights). No rays: rays between random
+  // points of the scene's box. Read during build only.
+  std::vector<Ray> trial_rays;
+  std::vector<Vec3> trial_lights;
   int max_leaf_size = 4;  // primitives per leaf at most
   int sah_bins = 16;      // bins per axis for the binned SAH sweep
   // Optional executor for a parallel build: runs body(i) for every i in [0, n), possibly
@@ -27,6 +50,14 @@ struct AccelStats {
   // Geometry arrays the rays read: positions, triangle indices, spheres and material ids (not
   // shading normals). The memory budget applies to bytes + geometry_bytes.
   size_t geometry_bytes = 0;
+  AccelKind structure = AccelKind::kBvh;  // the structure in use (never kAuto)
+  // Auto only: both structures' build time, memory and weighted work on the trial rays.
+  bool trial = false;
+  size_t trial_rays = 0;
+  double bvh_build_ms = 0, grid_build_ms = 0;
+  size_t bvh_bytes = 0, grid_bytes = 0;
+  double bvh_cost = 0, grid_cost = 0;
+  TraversalCounts bvh_counts, grid_counts;
 };
 
 class Accel {
@@ -43,6 +74,9 @@ class Accel {
   bool intersect(const Ray& ray, Hit& hit) const;
   // Any hit in [ray.tmin, ray.tmax] (early exit): for shadow rays.
   bool occluded(const Ray& ray) const;
+  // The same queries, adding their work to `counts` (the auto trial and bench accel).
+  bool intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const;
+  bool occluded_counted(const Ray& ray, TraversalCounts& counts) const;
 
   // Visits every leaf whose box may meet the cone with apex ray.org, axis ray.dir (unit) and
   // half-angle tangent tan_half, over t in [0, ray.tmax] (soft shadows). Boxes are grown by the
@@ -71,6 +105,7 @@ class Accel {
   const AccelStats& stats() const;
 
  private:
+  void build_bvh(Geometry& geom, const AccelConfig& config);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -39,6 +39,7 @@ struct RenderSettings {
   ShadowMode shadows = ShadowMode::kSoft;
   int shadow_samples = 16;
   bool transparent_shadows = false;
+  AccelKind accel = AccelKind::kBvh;  // acceleration structure (bvh, grid, auto: core/accel.h)
 };
 
 // What the scene needs, found at finalize time so the per-sample path skips the rest.
@@ -86,8 +87,12 @@ inline const std::vector<Light>& frame_lights(const Scene& scene, const DynamicF
   return frame && frame->lights.size() == scene.lights.size() ? frame->lights : scene.lights;
 }
 
-// Builds the acceleration structure and analyses features. Call once after loading.
+// Builds the acceleration structure (of kind scene.settings.accel) and analyses features. Call
+// once after loading. config supplies the build parameters; its kind is ignored.
 void finalize_scene(Scene& scene, const AccelConfig& config = {});
+
+// Rebuilds a finalized scene's acceleration structure as `kind` (command-line --accel).
+void set_accel(Scene& scene, AccelKind kind, const AccelConfig& config = {});
 
 // Changes the shadow settings of a finalized scene (command-line overrides): re-analyses its
 // features and builds the edge adjacency soft shadows need, without rebuilding the BVH.

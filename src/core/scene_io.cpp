@@ -6,6 +6,7 @@
 
 #include "core/mesh_obj.h"
 #include "core/scene_build.h"
+#include "core/sphere_file.h"
 
 namespace frameless {
 
@@ -28,11 +29,44 @@ Result<std::unique_ptr<Scene>> load_scene_json(const std::string& path) {
 
 namespace {
 
+// A binary sphere file (core/sphere_file.h; figure 15's data set): diffuse spheres coloured by
+// their scalar through a 64-entry colour map, or grey; framed from above like spheres:N.
+Result<std::unique_ptr<Scene>> load_sphere_scene(const std::string& path, const std::string& name) {
+  constexpr int kColours = 64;
+  auto s = std::make_unique<Scene>();
+  s->name = name;
+  auto info = load_sphere_file(path, s->geometry, 0, kColours);
+  if (!info) return info.error();
+  if (info->has_scalar) {
+    const std::vector<Vec3> colours = colormap_colors(kColours);
+    for (int i = 0; i < kColours; ++i) {
+      Material m;
+      m.name = "map" + std::to_string(i);
+      m.kd = colours[size_t(i)];
+      add_material(*s, m);
+    }
+  } else {
+    Material m;
+    m.name = "grey";
+    m.kd = Vec3(0.7f);
+    add_material(*s, m);
+  }
+  Vec3 lo, hi;
+  if (!scene_bounds(s->geometry, lo, hi)) return Error{path + ": no spheres"};
+  s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
+  const float extent = glm::length(hi - lo);
+  s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
+  s->ambient = default_hemisphere_ambient();
+  finalize_scene(*s);
+  return s;
+}
+
 Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
   const std::string ext = file_extension(spec);
   if (ext == ".json") return load_scene_json(spec);
   const size_t slash = spec.find_last_of('/');
   const std::string name = slash == std::string::npos ? spec : spec.substr(slash + 1);
+  if (ext == ".spheres") return load_sphere_scene(spec, name);
   if (ext == ".obj" || ext == ".ply") {
     // An OBJ that names MTL libraries keeps its materials and textures; others get the default.
     ImageCache images;
