@@ -1,5 +1,5 @@
 // libFuzzer target for every parser of scene input. The first byte picks the parser (its value
-// modulo 8), the rest is that parser's input:
+// modulo 10), the rest is that parser's input:
 //   0  JSON scene, base folder /nonexistent ("mesh" and "textures" files are missing)
 //   1  OBJ (parse_obj)
 //   2  PLY (parse_ply)
@@ -13,6 +13,10 @@
 //      mutations stay inside one decoder: 0 PNG, 1 JPEG, 2 OpenEXR, 3 none (the bytes as given)
 //   7  JSON scene whose base folder is the work folder, so "textures" entries naming t.png or
 //      g.png load
+//   8  POV-Ray bicubic_patch text (parse_bicubic_patches); patches that load are built at depth 2
+//      and traced by a few rays, whose hits must be finite and inside the patch's bounds
+//   9  binary sphere file (parse_sphere_bytes, with a colour map); spheres that load are built
+//      into a scene (finalize_scene) and traced
 // Every call must return a value or a one-line, non-empty error; an error message that is empty
 // or holds a newline traps (__builtin_trap), as does a returned value that breaks its documented
 // invariants (mesh indices, per-vertex arrays, material and texture slots, image sizes, finite
@@ -38,6 +42,8 @@
 #include "core/scene_build.h"
 #include "core/scene_io.h"
 #include "core/texture.h"
+#include "core/patch_io.h"
+#include "core/sphere_file.h"
 
 namespace {
 
@@ -243,10 +249,52 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   return 0;
 }
 
+// Patches that parse: finite controls, a built surface whose hits lie in its bounds.
+void run_patches(const Result<std::vector<BezierPatch>>& r) {
+  if (!r) return check_error(r.error());
+  if (verbose()) std::fprintf(stderr, "scene_fuzzer: %zu patches\n", r->size());
+  for (size_t i = 0; i < r->size() && i < 64; ++i) {
+    for (const Vec3& c : (*r)[i].p)
+      if (!is_finite(c)) __builtin_trap();
+    const PatchSurface ps((*r)[i], 2);
+    const Vec3 mid = 0.5f * (ps.lo() + ps.hi());
+    for (int k = 0; k < 6; ++k) {
+      Ray ray;
+      ray.dir = Vec3(k % 3 == 0, k % 3 == 1, k % 3 == 2) * (k < 3 ? 1.0f : -1.0f);
+      ray.org = mid - ray.dir * (1.0f + max_component(ps.hi() - ps.lo()));
+      float t, u, v;
+      if (!ps.intersect(ray, 0.0f, kInfinity, t, u, v)) continue;
+      if (!std::isfinite(t) || !(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) __builtin_trap();
+      if (!is_finite(bezier_normal((*r)[i], u, v))) __builtin_trap();
+    }
+  }
+}
+
+void run_spheres(const std::string& input) {
+  auto scene = std::make_unique<Scene>();
+  Material m;
+  scene->materials.assign(8, m);
+  auto r = parse_sphere_bytes(input, "fuzz.spheres", scene->geometry, 0, 8);
+  if (!r) {
+    check_error(r.error());
+    if (!scene->geometry.spheres.empty()) __builtin_trap();  // rolled back on error
+    return;
+  }
+  const Geometry& g = scene->geometry;
+  if (!g.sphere_material.empty() && g.sphere_material.size() != g.spheres.size()) __builtin_trap();
+  for (uint16_t id : g.sphere_material)
+    if (id >= 8) __builtin_trap();
+  for (const Sphere& sp : g.spheres)
+    if (!is_finite(sp.center) || !(sp.radius >= 0.0f)) __builtin_trap();
+  if (g.spheres.size() > 100000) return;  // keep each input fast
+  finalize_scene(*scene);
+  run_scene(Result<std::unique_ptr<Scene>>(std::move(scene)));
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const std::string input(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 8) {
+  switch (data[0] % 10) {
     case 0:
       run_scene(parse_scene_json(input, "fuzz.json", "/nonexistent"));
       break;
@@ -259,7 +307,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 3:
     case 4: {
       ImageCache images;
-      run_model(parse_gltf(input, data[0] % 8 == 3 ? "fuzz.gltf" : "fuzz.glb", "/nonexistent",
+      run_model(parse_gltf(input, data[0] % 10 == 3 ? "fuzz.gltf" : "fuzz.glb", "/nonexistent",
                            images));
       break;
     }
@@ -296,6 +344,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     case 7:
       run_scene(parse_scene_json(input, "fuzz.json", work_dir().dir()));
+      break;
+    case 8:
+      run_patches(parse_bicubic_patches(input, "fuzz.inc"));
+      break;
+    case 9:
+      run_spheres(input);
       break;
   }
   return 0;
