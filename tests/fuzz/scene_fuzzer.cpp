@@ -250,7 +250,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 // Patches that parse: finite controls, a built surface whose hits lie in its bounds.
-void run_patches(const Result<std::vector<BezierPatch>>& r) {
+void run_patches(Result<std::vector<BezierPatch>> r) {
   if (!r) return check_error(r.error());
   if (verbose()) std::fprintf(stderr, "scene_fuzzer: %zu patches\n", r->size());
   for (size_t i = 0; i < r->size() && i < 64; ++i) {
