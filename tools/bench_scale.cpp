@@ -251,7 +251,7 @@ const bool registered = register_command(
       app.add_option("--out", args->out, "Output directory (scale.json, scale.csv, scale.png)")
           ->required();
       app.add_option("--max-n", args->max_n,
-                     "Largest N to run (default 35000000; the 35M build takes minutes and ~3 GB)");
+                     "Largest N to run (default 35000000; 35M spheres take about a minute and 1.3 GB)");
       app.add_option("--n", args->ns, "Sphere counts (default 1e3,1e4,...,1e7,3.5e7)")
           ->delimiter(',');
       app.add_option("--size", args->size,

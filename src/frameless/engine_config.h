@@ -60,9 +60,9 @@ struct EngineConfig {
   AdaptiveConfig adaptive;          // adaptive frameless sampling (off by default)
   // Scenes where something moves (dynamic objects, or lights and materials changed while you
   // look): a pixel's running mean remembers at most this many samples (an exponential moving
-  // average after that), and a sample more than 4 sigma from the mean restarts it, so moved
+  // average after that), and a sample more than 3 sigma from the mean restarts it, so moved
   // content is blended in instead of averaged forever (docs/engine.md). 2..65536.
-  int motion_history = 32;
+  int motion_history = 8;
 };
 
 // Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.

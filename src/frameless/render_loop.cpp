@@ -29,7 +29,7 @@ inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px,
 
 // A sample this far (in standard deviations of the pixel's luminance, plus a small absolute
 // floor) from the running mean means the content moved: the statistics restart.
-constexpr double kMotionSigmas = 4.0;
+constexpr double kMotionSigmas = 3.0;
 constexpr double kMotionFloor = 0.02;
 
 // One pixel update of pixel `idx`, whose state is `p`: 1 or 2 samples, Welford per sample,
