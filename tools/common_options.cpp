@@ -66,6 +66,12 @@ bool ShadowFlags::apply(Scene& scene, std::string& error) const {
       return false;
     }
     set_accel(scene, kind);
+    const AccelStats& st = scene.accel.stats();
+    if (st.trial)  // auto reports what it chose and why
+      std::fprintf(stderr,
+                   "frameless: --accel auto chose %s (weighted work on %zu trial rays: bvh %.0f, "
+                   "grid %.0f)\n",
+                   accel_kind_name(st.structure), st.trial_rays, st.bvh_cost, st.grid_cost);
   }
   return true;
 }
