@@ -169,7 +169,11 @@ class Parser {
 
  private:
   bool next() { return lex_.next(tok_); }
-  bool fail(const std::string& what) { return lex_.fail(tok_.line, "bicubic_patch: " + what); }
+  bool fail(const std::string& what) {
+    std::string m = "bicubic_patch: ";
+    m += what;
+    return lex_.fail(tok_.line, m);
+  }
   bool unterminated() { return lex_.fail(open_line_, "bicubic_patch: block is not closed"); }
   bool is_char(char c) const { return tok_.kind == Kind::Char && tok_.text[0] == c; }
 
@@ -231,9 +235,14 @@ class Parser {
       if (!number(p[a])) return false;
       if (!next()) return false;
       if (tok_.kind == Kind::End) return unterminated();
-      if (!is_char(a < 2 ? ',' : '>'))
-        return fail(std::string("malformed vector: expected '") + (a < 2 ? ',' : '>') + "', got " +
-                    quote(tok_.text));
+      if (!is_char(a < 2 ? ',' : '>')) {
+        // Appended piece by piece: GCC 12 misreads an operator+ chain here (-Wstringop-overflow).
+        std::string m = "malformed vector: expected '";
+        m += a < 2 ? ',' : '>';
+        m += "', got ";
+        m += quote(tok_.text);
+        return fail(m);
+      }
     }
     return true;
   }

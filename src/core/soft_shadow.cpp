@@ -185,6 +185,15 @@ class SoftQuery final : public Accel::ConeVisitor {
       for (int x = 0; x < kPatchShadowGrid; ++x) {
         const Vec3 a = grid[y * n + x], b = grid[y * n + x + 1], c = grid[(y + 1) * n + x + 1],
                    d = grid[(y + 1) * n + x];
+        // A quad whose bounding sphere lies outside the light's cone cannot change s (its
+        // outlines are at x >= 1): skip it before the projection work. Exact, with a margin.
+        const Vec3 centre = 0.25f * (a + b + c + d);
+        const float r2 = std::max(std::max(glm::dot(a - centre, a - centre), glm::dot(b - centre, b - centre)),
+                                  std::max(glm::dot(c - centre, c - centre), glm::dot(d - centre, d - centre)));
+        const Vec3 w = centre - q_.org;
+        const float z = glm::dot(w, q_.dir);
+        const float perp = glm::length(w - z * q_.dir);
+        if (perp * cos_theta_ - z * sin_theta_ > 1.01f * std::sqrt(r2) + 1e-5f * glm::length(w)) continue;
         const Vec3 t0[3] = {a, b, c}, t1[3] = {a, c, d};
         if (corners(t0, nullptr) || corners(t1, nullptr)) return true;
       }

@@ -17,9 +17,16 @@ const std::string kData = FRAMELESS_TEST_DATA;
 // 16 points <j, i, k> (k = 4i + j) as POV-Ray writes them: four rows of four, no commas.
 std::string points(int count = 16, const char* sep = " ") {
   std::string s;
-  for (int k = 0; k < count; ++k)
-    s += "<" + std::to_string(k % 4) + ", " + std::to_string(k / 4) + ", " + std::to_string(k) + ">" +
-         (k % 4 == 3 ? "\n" : sep);
+  for (int k = 0; k < count; ++k) {  // appended piece by piece (GCC 12's -Wstringop-overflow)
+    s += '<';
+    s += std::to_string(k % 4);
+    s += ", ";
+    s += std::to_string(k / 4);
+    s += ", ";
+    s += std::to_string(k);
+    s += '>';
+    s += k % 4 == 3 ? "\n" : sep;
+  }
   return s;
 }
 
