@@ -207,6 +207,16 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
   // whose primitive ties with the current hit within an ulp would be culled.
   float tmax_box = tmax * kRobustFar;
   bool found = false;
+  // A closer hit shrinks the interval every later box and primitive is tested against.
+  auto record = [&](float t, float u, float v, uint32_t prim) {
+    tmax = t;
+    tmax_box = t * kRobustFar;
+    hit.t = t;
+    hit.u = u;
+    hit.v = v;
+    hit.prim = prim;
+    found = true;
+  };
 
   StackEntry stack[kStackSize];
   int sp = 0;
@@ -260,26 +270,17 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
       if constexpr (kCount) counts->prims += count;
       for (uint32_t k = 0; k < count; ++k) {
         const PatchSurface& ps = g.patches[ref + k];
-        // Broyden's roots carry a relative error of about 1e-6 of the patch: a ray leaving the
-        // surface must not find its own start again, so roots this close are not hits.
-        const float tmin_p = std::max(tmin, 1e-5f * max_component(ps.hi() - ps.lo()));
         if constexpr (kAnyHit) {
           if (!alpha.opaque) {
-            if (ps.occluded(ray, tmin_p, tmax)) return true;
+            if (ps.occluded(ray, tmin, tmax)) return true;
             continue;
           }
         }
         float t, u, v;
-        if (ps.intersect(ray, tmin_p, tmax, t, u, v)) {
+        if (ps.intersect(ray, tmin, tmax, t, u, v)) {
           if (alpha.opaque && !alpha_opaque(alpha, g, first + ref + k, ray, t, u, v)) continue;
           if constexpr (kAnyHit) return true;
-          tmax = t;
-          tmax_box = t * kRobustFar;
-          hit.t = t;
-          hit.u = u;
-          hit.v = v;
-          hit.prim = first + ref + k;
-          found = true;
+          record(t, u, v, first + ref + k);
         }
       }
     } else if (info & kSphereLeafBit) {
@@ -291,12 +292,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
           if (alpha.opaque && !alpha_opaque(alpha, g, num_tris + ref + k, ray, t, 0.0f, 0.0f))
             continue;
           if constexpr (kAnyHit) return true;
-          tmax = t;
-          tmax_box = t * kRobustFar;
-          hit.t = t;
-          hit.u = hit.v = 0.0f;
-          hit.prim = num_tris + ref + k;
-          found = true;
+          record(t, 0.0f, 0.0f, num_tris + ref + k);
         }
       }
     } else {
@@ -307,13 +303,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
         if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax, t, u, v)) {
           if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
           if constexpr (kAnyHit) return true;
-          tmax = t;
-          tmax_box = t * kRobustFar;
-          hit.t = t;
-          hit.u = u;
-          hit.v = v;
-          hit.prim = ref + k;
-          found = true;
+          record(t, u, v, ref + k);
         }
       }
     }

@@ -7,6 +7,7 @@
 
 #include "core/accel_impl.h"
 #include "core/rng.h"
+#include "core/scene.h"  // scene_bounds
 
 namespace frameless {
 namespace {
@@ -21,12 +22,9 @@ constexpr double kPrimCost = 1.0;
 
 // Trial rays when the caller gave none: between random points of the scene's box (seeded).
 std::vector<Ray> box_rays(const Geometry& g, int n) {
-  Vec3 lo(kInfinity), hi(-kInfinity);
-  for (const Vec3& p : g.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  for (const Sphere& s : g.spheres) lo = glm::min(lo, s.center - s.radius), hi = glm::max(hi, s.center + s.radius);
-  for (const PatchSurface& p : g.patches) lo = glm::min(lo, p.lo()), hi = glm::max(hi, p.hi());
+  Vec3 lo, hi;
   std::vector<Ray> rays;
-  if (!is_finite(lo) || !is_finite(hi)) return rays;
+  if (!scene_bounds(g, lo, hi) || !is_finite(lo) || !is_finite(hi)) return rays;
   Rng rng(0xacce1);
   auto point = [&] { return lo + (hi - lo) * Vec3(rng.next_float(), rng.next_float(), rng.next_float()); };
   for (int i = 0; i < n; ++i) {

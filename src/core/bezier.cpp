@@ -356,14 +356,19 @@ Vec3 PatchSurface::hi() const { return boxes_.empty() ? Vec3(0.0f) : boxes_[0].h
 
 size_t PatchSurface::bytes() const { return sizeof(*this) + boxes_.capacity() * sizeof(Box); }
 
+// Roots carry a relative error of about kTolerance of the patch: a ray leaving the surface must
+// not find its own start again, so roots closer than ten times that are not hits (every caller,
+// BVH, grid and soft shadows, gets the same rule).
+float PatchSurface::self_hit_distance() const { return float(10.0 * kTolerance) * scale_; }
+
 bool PatchSurface::intersect(const Ray& ray, float tmin, float tmax, float& t, float& u, float& v,
                              PatchHitStats* stats) const {
-  return traverse<false>(ray, tmin, tmax, t, u, v, stats);
+  return traverse<false>(ray, std::max(tmin, self_hit_distance()), tmax, t, u, v, stats);
 }
 
 bool PatchSurface::occluded(const Ray& ray, float tmin, float tmax) const {
   float t, u, v;
-  return traverse<true>(ray, tmin, tmax, t, u, v, nullptr);
+  return traverse<true>(ray, std::max(tmin, self_hit_distance()), tmax, t, u, v, nullptr);
 }
 
 template <bool kAny>

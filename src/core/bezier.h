@@ -64,6 +64,8 @@ class PatchSurface {
   bool occluded(const Ray& ray, float tmin, float tmax) const;
 
   const BezierPatch& patch() const { return patch_; }
+  // Roots nearer than this to a ray's origin are taken for the surface the ray leaves.
+  float self_hit_distance() const;
   int depth() const { return depth_; }
   size_t bytes() const;
 

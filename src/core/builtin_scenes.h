@@ -1,6 +1,7 @@
 // Built-in scenes that need no files, and the animated state of Parker's bouncing balls;
 // loading thread (pure functions).
 #pragma once
+#include <initializer_list>
 #include <memory>
 #include <vector>
 
@@ -18,6 +19,15 @@ std::unique_ptr<Scene> make_balls();
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
 // Path of the Stanford bunny shipped by Debian's glmark2-data.
+// A scene kept in the binary as JSON whose files lie under /usr/share; each need names a folder
+// and the Debian package that brings it (a one-line error names the missing one).
+struct EmbeddedNeed {
+  const char* dir;
+  const char* package;
+};
+Result<std::unique_ptr<Scene>> load_embedded_scene(const char* json, const char* name,
+                                                   std::initializer_list<EmbeddedNeed> needs);
+
 // The textured showcase scene (builtin_showcase.cpp), finalized.
 Result<std::unique_ptr<Scene>> make_showcase();
 

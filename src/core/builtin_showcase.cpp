@@ -70,15 +70,21 @@ constexpr const char* kShowcaseJson = R"json({
 
 }  // namespace
 
-Result<std::unique_ptr<Scene>> make_showcase() {
+Result<std::unique_ptr<Scene>> load_embedded_scene(const char* json, const char* name,
+                                                   std::initializer_list<EmbeddedNeed> needs) {
   struct stat st;
-  for (const char* dir : {"/usr/share/glmark2/textures", "/usr/share/assimp/models"})
-    if (stat(dir, &st) != 0)
-      return Error{std::string("showcase: ") + dir +
-                   " not found: install Debian's glmark2-data and assimp-testmodels"};
-  auto scene = parse_scene_json(kShowcaseJson, "showcase", "/usr/share");
-  if (scene) scene.value()->name = "showcase";
+  for (const EmbeddedNeed& n : needs)
+    if (stat(n.dir, &st) != 0)
+      return Error{std::string(name) + ": " + n.dir + " not found: install Debian's " + n.package};
+  auto scene = parse_scene_json(json, name, "/usr/share");
+  if (scene) scene.value()->name = name;
   return scene;
+}
+
+Result<std::unique_ptr<Scene>> make_showcase() {
+  return load_embedded_scene(kShowcaseJson, "showcase",
+                             {{"/usr/share/glmark2/textures", "glmark2-data"},
+                              {"/usr/share/assimp/models", "assimp-testmodels"}});
 }
 
 }  // namespace frameless

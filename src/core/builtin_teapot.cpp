@@ -3,10 +3,7 @@
 // spline teapot, glass, image and solid textures, soft shadows). Both are ordinary JSON scenes
 // (docs/scene-format.md) kept in the binary; their files come from Debian's povray-examples,
 // glmark2-data and assimp-testmodels.
-#include <sys/stat.h>
-
 #include "core/builtin_scenes.h"
-#include "core/scene_io.h"
 
 namespace frameless {
 namespace {
@@ -101,22 +98,18 @@ constexpr const char* kRoomJson = R"json({
   ]
 })json";
 
-Result<std::unique_ptr<Scene>> load_embedded(const char* json, const char* name) {
-  struct stat st;
-  const char* needs[][2] = {{"/usr/share/doc/povray/examples/advanced/teapot", "povray-examples"},
-                            {"/usr/share/glmark2/models", "glmark2-data"},
-                            {"/usr/share/assimp/models", "assimp-testmodels"}};
-  for (const auto& n : needs)
-    if (stat(n[0], &st) != 0)
-      return Error{std::string(name) + ": " + n[0] + " not found: install Debian's " + n[1]};
-  auto scene = parse_scene_json(json, name, "/usr/share");
-  if (scene) scene.value()->name = name;
-  return scene;
-}
+constexpr EmbeddedNeed kPovray{"/usr/share/doc/povray/examples/advanced/teapot", "povray-examples"};
 
 }  // namespace
 
-Result<std::unique_ptr<Scene>> make_teapot() { return load_embedded(kTeapotJson, "teapot"); }
-Result<std::unique_ptr<Scene>> make_room() { return load_embedded(kRoomJson, "room"); }
+Result<std::unique_ptr<Scene>> make_teapot() {
+  return load_embedded_scene(kTeapotJson, "teapot", {kPovray});
+}
+
+Result<std::unique_ptr<Scene>> make_room() {
+  return load_embedded_scene(kRoomJson, "room",
+                             {kPovray, {"/usr/share/glmark2/models", "glmark2-data"},
+                              {"/usr/share/assimp/models", "assimp-testmodels"}});
+}
 
 }  // namespace frameless

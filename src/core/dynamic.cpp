@@ -48,8 +48,7 @@ bool unpack_world(const float* data, size_t n, WorldState& w) {
   for (size_t i = 0; i < n; ++i)
     if (!std::isfinite(data[i])) return false;
   // Radii and exponents must stay in range too: a negative radius would flip shadow cones.
-  const float* d = data;
-  for (size_t i = 0; i < w.object_position.size(); ++i) d += kObjectFloats;
+  const float* d = data + w.object_position.size() * kObjectFloats;
   for (size_t i = 0; i < w.lights.size(); ++i, d += kLightFloats)
     if (d[6] < 0.0f) return false;
   for (size_t i = 0; i < w.materials.size(); ++i, d += kMaterialFloats)
@@ -134,18 +133,8 @@ SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, 
                                  const Hit& hit) {
   if (!is_dynamic_prim(hit.prim) || !frame) return surface_point(scene.geometry, ray, hit);
   const uint32_t i = hit.prim - kDynamicPrimBase;
-  const Sphere& s = frame->spheres[i];
-  SurfacePoint sp;
+  SurfacePoint sp = sphere_surface_point(frame->spheres[i], frame->sphere_material[i], ray, hit.t);
   sp.prim = hit.prim;
-  Vec3 n = ray.org + hit.t * ray.dir - s.center;
-  const float len = glm::length(n);
-  n = len > 0.0f && std::isfinite(len) ? n / len : -ray.dir;
-  sp.p = s.center + s.radius * n;  // projected back onto the sphere, as for static spheres
-  sp.front_face = glm::dot(n, ray.dir) < 0.0f;
-  sp.ng = sp.front_face ? n : -n;
-  sp.ns = sp.ng;
-  sp.material = frame->sphere_material[i];
-  sp.scale = max_component(glm::abs(s.center)) + std::fabs(s.radius);
   return sp;
 }
 

@@ -174,9 +174,7 @@ class SoftQuery final : public Accel::ConeVisitor {
     if (skip_material(m) || g_.patch_shadow_grid.size() < (i + 1) * per ||
         q_.receiver == g_.first_patch() + i) {
       // Without a grid (or cut out): the hard shadow of the true surface.
-      const PatchSurface& ps = g_.patches[i];
-      const float tmin = 1e-5f * max_component(ps.hi() - ps.lo());  // as Accel: not its own start
-      if (!skip_material(m) && ps.occluded(ray_, tmin, q_.tmax)) return zero_ = true;
+      if (!skip_material(m) && g_.patches[i].occluded(ray_, 0.0f, q_.tmax)) return zero_ = true;
       return false;
     }
     const Vec3* grid = g_.patch_shadow_grid.data() + i * per;

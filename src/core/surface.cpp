@@ -59,16 +59,23 @@ SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit)
     sp.scale = max_component(glm::max(glm::abs(ps.lo()), glm::abs(ps.hi())));
   } else {
     const uint32_t i = hit.prim - ntri;
-    const Sphere& s = geom.spheres[i];
-    const Vec3 n = normalize_or(ray.org + hit.t * ray.dir - s.center, back);
-    // Project back onto the sphere: the error is then that of center + radius * n only.
-    sp.p = s.center + s.radius * n;
-    sp.front_face = glm::dot(n, ray.dir) < 0.0f;
-    sp.ng = sp.front_face ? n : -n;
-    sp.ns = sp.ng;
-    sp.material = geom.sphere_material.empty() ? 0 : geom.sphere_material[i];
-    sp.scale = max_component(glm::abs(s.center)) + std::fabs(s.radius);
+    sp = sphere_surface_point(geom.spheres[i], geom.sphere_material.empty() ? 0 : geom.sphere_material[i],
+                              ray, hit.t);
+    sp.prim = hit.prim;
   }
+  return sp;
+}
+
+SurfacePoint sphere_surface_point(const Sphere& s, uint16_t material, const Ray& ray, float t) {
+  SurfacePoint sp;
+  const Vec3 n = normalize_or(ray.org + t * ray.dir - s.center, -ray.dir);
+  // Project back onto the sphere: the error is then that of center + radius * n only.
+  sp.p = s.center + s.radius * n;
+  sp.front_face = glm::dot(n, ray.dir) < 0.0f;
+  sp.ng = sp.front_face ? n : -n;
+  sp.ns = sp.ng;
+  sp.material = material;
+  sp.scale = max_component(glm::abs(s.center)) + std::fabs(s.radius);
   return sp;
 }
 

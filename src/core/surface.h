@@ -19,6 +19,9 @@ struct SurfacePoint {
 
 SurfacePoint surface_point(const Geometry& geom, const Ray& ray, const Hit& hit);
 
+// The surface point of a hit at distance t on sphere s (static or moving).
+SurfacePoint sphere_surface_point(const Sphere& s, uint16_t material, const Ray& ray, float t);
+
 // Offsets p along n by an amount proportional to p's floating-point magnitude so that a ray
 // leaving p in n's hemisphere cannot re-hit the surface, at any scene scale (Waechter & Binder 2019).
 // scale: SurfacePoint::scale of the primitive p lies on (0 when unknown: p's own magnitude).
