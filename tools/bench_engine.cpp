@@ -141,12 +141,24 @@ int run_bench(const BenchArgs& a) {
     // overhead is the median of the per-pair ratios.
     EngineConfig cc = c;
     cc.mode = RenderMode::conventional;
+    // The same runs with camera rays traced one by one: the gain of ray packets (same images).
+    EngineConfig c1 = c, cc1 = cc;
+    c1.packets = cc1.packets = false;
     std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus, ups, nspu, cons;
+    std::vector<double> fl1_s, conv1_s, gain_fl, gain_conv;
     for (int k = 0; k < std::max(1, a.repeats); ++k) {
       note("frameless throughput");
       const Throughput f = throughput(*scene, c, camera, a.seconds);
       note("conventional throughput");
       const Throughput v = throughput(*scene, cc, camera, a.seconds);
+      note("frameless throughput, single rays");
+      const Throughput f1 = throughput(*scene, c1, camera, a.seconds);
+      note("conventional throughput, single rays");
+      const Throughput v1 = throughput(*scene, cc1, camera, a.seconds);
+      fl1_s.push_back(f1.per_s);
+      conv1_s.push_back(v1.per_s);
+      gain_fl.push_back(f.per_cpu_s / f1.per_cpu_s);
+      gain_conv.push_back(v.per_cpu_s / v1.per_cpu_s);
       fl_s.push_back(f.per_s);
       conv_s.push_back(v.per_s);
       fl_cpu.push_back(f.per_cpu_s);
@@ -187,6 +199,10 @@ int run_bench(const BenchArgs& a) {
     j["frameless_samples_per_cpu_s"] = median(fl_cpu);
     j["conventional_samples_per_cpu_s"] = median(conv_cpu);
     j["frameless_overhead_per_cpu_s"] = overhead_cpu;
+    j["frameless_single_ray_samples_per_s"] = median(fl1_s);
+    j["conventional_single_ray_samples_per_s"] = median(conv1_s);
+    j["packet_gain_frameless_per_cpu_s"] = median(gain_fl);
+    j["packet_gain_conventional_per_cpu_s"] = median(gain_conv);
     j["throughput_repeats"] = fl_s.size();
     j["throughput_with_display_hz"] = 60;
     j["display_cpu_fraction"] = cpu;
@@ -207,6 +223,9 @@ int run_bench(const BenchArgs& a) {
                   fl * 1e-6, conv * 1e-6, 100.0 * overhead);
       std::printf("per CPU second: frameless %.3f M, conventional %.3f M (overhead %.1f%%)\n",
                   median(fl_cpu) * 1e-6, median(conv_cpu) * 1e-6, 100.0 * overhead_cpu);
+      std::printf("single rays: frameless %.3f M samples/s, conventional %.3f M; packets gain "
+                  "x%.2f frameless, x%.2f conventional (per CPU second)\n",
+                  median(fl1_s) * 1e-6, median(conv1_s) * 1e-6, median(gain_fl), median(gain_conv));
       std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core (%.2f M updates/s, %.1f ns each)\n",
                   100.0 * cpu, median(ups) * 1e-6, median(nspu));
       std::printf("consumer taking each image (acquire_latest): %.2f%% of one core\n", 100.0 * median(cons));

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/instance.h"
 #include "core/scene.h"
 #include "frameless/cpu_clock.h"
 #include "tools/bench_report.h"
@@ -36,6 +37,7 @@ struct BenchArgs {
   int reps = 5;
   bool json = false;
   bool no_embree = false;
+  bool opaque = false;
   CameraFlags camera;
 };
 
@@ -104,15 +106,20 @@ int run_bench(BenchArgs& a) {
     for (std::thread& t : pool) t.join();
   };
   scene->accel.build(scene->geometry, parallel_config);
+  if (a.opaque) scene->accel.set_alpha_test({});  // as Embree sees the scene: no cut-outs
   const AccelStats stats = scene->accel.stats();
   const Geometry& geom = scene->geometry;
 
-  // Primary rays through pixel centres, in scanline order.
+  // Primary rays through pixel centres in 4x2 blocks, block rows in scanline order: every
+  // packet (ours and Embree's) is a compact block of neighbours, as in the engine.
   const CameraBasis basis = make_camera_basis(scene->camera, width, height);
-  std::vector<Ray> primary(size_t(width) * height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      primary[size_t(y) * width + x] = camera_ray(basis, float(x) + 0.5f, float(y) + 0.5f);
+  std::vector<Ray> primary;
+  primary.reserve(size_t(width) * height);
+  for (int by = 0; by < height; by += 2)
+    for (int bx = 0; bx < width; bx += 4)
+      for (int y = by; y < std::min(height, by + 2); ++y)
+        for (int x = bx; x < std::min(width, bx + 4); ++x)
+          primary.push_back(camera_ray(basis, float(x) + 0.5f, float(y) + 0.5f));
   std::vector<Hit> hits(primary.size());
   const Accel& accel = scene->accel;
   accel.intersect(primary[0], hits[0]);  // warm up
@@ -145,8 +152,24 @@ int run_bench(BenchArgs& a) {
     }
   }
   std::vector<uint8_t> occluded(shadow.size());
+  std::vector<Hit> packet_hits(primary.size());
+  std::vector<uint8_t> packet_occluded(shadow.size());
+  // Packets of kPacketSize consecutive rays (a chunk is a multiple of it).
+  auto trace_packets = [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; i += kPacketSize)
+      accel.intersect_packet(primary.data() + i, int(std::min<size_t>(kPacketSize, e - i)),
+                             packet_hits.data() + i);
+  };
+  auto occlude_packets = [&](size_t b, size_t e) {
+    bool occ[kPacketSize];
+    for (size_t i = b; i < e; i += kPacketSize) {
+      const int m = int(std::min<size_t>(kPacketSize, e - i));
+      accel.occluded_packet(shadow.data() + i, m, occ);
+      for (int k = 0; k < m; ++k) packet_occluded[i + k] = occ[k];
+    }
+  };
 
-  Timing p1, pn, s1, sn;
+  Timing p1, pn, s1, sn, pk1, pkn, sk1, skn;
 #if defined(FRAMELESS_HAVE_EMBREE)
   std::unique_ptr<EmbreeBench> embree_ptr;
   if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads);
@@ -170,6 +193,8 @@ int run_bench(BenchArgs& a) {
       ts.add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) occluded[i] = accel.occluded(shadow[i]);
       }));
+      (nt == 1 ? pk1 : pkn).add(run_chunks(nt, primary.size(), trace_packets));
+      (nt == 1 ? sk1 : skn).add(run_chunks(nt, shadow.size(), occlude_packets));
 #if defined(FRAMELESS_HAVE_EMBREE)
       if (embree_ptr) {
         const EmbreeBench& embree = *embree_ptr;
@@ -191,9 +216,17 @@ int run_bench(BenchArgs& a) {
     }
   }
   if (progress) std::fprintf(stderr, "\r%*s\r", 30, "");
-  if (threads == 1) pn = p1, sn = s1;
+  if (threads == 1) pn = p1, sn = s1, pkn = pk1, skn = sk1;
   size_t shadow_occluded = 0;
   for (uint8_t o : occluded) shadow_occluded += o;
+  // Packets must return exactly the single rays' answers (hit, distance bits, primitive).
+  size_t packet_same = 0, packet_occ_same = 0;
+  for (size_t i = 0; i < primary.size(); ++i)
+    packet_same += hits[i].valid() == packet_hits[i].valid() &&
+                   (!hits[i].valid() ||
+                    (hits[i].prim == packet_hits[i].prim && hits[i].t == packet_hits[i].t &&
+                     hits[i].u == packet_hits[i].u && hits[i].v == packet_hits[i].v));
+  for (size_t i = 0; i < shadow.size(); ++i) packet_occ_same += occluded[i] == packet_occluded[i];
 
   const size_t prims = geom.num_primitives();
   nlohmann::ordered_json j;
@@ -201,6 +234,8 @@ int run_bench(BenchArgs& a) {
   j["prims"] = prims;
   j["triangles"] = geom.num_triangles();
   j["spheres"] = geom.num_spheres();
+  j["instances"] = geom.instances.size();
+  j["represented_triangles"] = represented_triangles(geom);
   j["width"] = width;
   j["height"] = height;
   j["build_ms"] = serial_stats.build_ms;
@@ -221,6 +256,13 @@ int run_bench(BenchArgs& a) {
   j["shadow_mrays_per_s"] = sn.mrays(shadow.size());
   j["primary_mrays_per_s_1t"] = p1.mrays(primary.size());
   j["shadow_mrays_per_s_1t"] = s1.mrays(shadow.size());
+  j["primary_packet_mrays_per_s"] = pkn.mrays(primary.size());
+  j["shadow_packet_mrays_per_s"] = skn.mrays(shadow.size());
+  j["primary_packet_mrays_per_s_1t"] = pk1.mrays(primary.size());
+  j["shadow_packet_mrays_per_s_1t"] = sk1.mrays(shadow.size());
+  j["packet_size"] = kPacketSize;
+  j["packet_primary_mismatches"] = primary.size() - packet_same;
+  j["packet_shadow_mismatches"] = shadow.size() - packet_occ_same;
   j["reps"] = a.reps;
   j["clock_1t"] = "thread CPU time";
   j["clock_nt"] = "wall time";
@@ -255,6 +297,14 @@ int run_bench(BenchArgs& a) {
     e["ratio_primary_vs_packet8"] = pn.mrays(1) / e8n.mrays(1);
     e["ratio_shadow_vs_occluded1"] = sn.mrays(1) / esn.mrays(1);
     e["ratio_shadow_vs_packet8"] = sn.mrays(1) / es8n.mrays(1);
+    e["ratio_primary_packet_vs_packet8_1t"] = pk1.mrays(1) / e81.mrays(1);
+    e["ratio_primary_packet_vs_intersect1_1t"] = pk1.mrays(1) / ep1.mrays(1);
+    e["ratio_shadow_packet_vs_occluded1_1t"] = sk1.mrays(1) / es1.mrays(1);
+    e["ratio_shadow_packet_vs_packet8_1t"] = sk1.mrays(1) / es81.mrays(1);
+    e["ratio_primary_packet_vs_packet8"] = pkn.mrays(1) / e8n.mrays(1);
+    e["ratio_primary_packet_vs_intersect1"] = pkn.mrays(1) / epn.mrays(1);
+    e["ratio_shadow_packet_vs_occluded1"] = skn.mrays(1) / esn.mrays(1);
+    e["ratio_shadow_packet_vs_packet8"] = skn.mrays(1) / es8n.mrays(1);
     e["primary_agreement"] = double(same_hit) / double(primary.size());
     e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
     j["embree"] = e;
@@ -267,6 +317,10 @@ int run_bench(BenchArgs& a) {
   std::printf("scene %s: %zu primitives (%u triangles, %u spheres), %dx%d, %d threads\n",
               a.scene.c_str(), prims, geom.num_triangles(), geom.num_spheres(), width, height,
               threads);
+  if (!geom.instances.empty())
+    std::printf("instances: %zu of %zu shared meshes, %llu triangles represented\n",
+                geom.instances.size(), geom.instance_meshes.size(),
+                (unsigned long long)represented_triangles(geom));
   std::printf(
       "BVH: build %.1f ms serial, %.1f ms parallel; %zu nodes, depth %d; "
       "%.1f bytes/prim (BVH %zu + geometry %zu)\n",
@@ -279,6 +333,8 @@ int run_bench(BenchArgs& a) {
   };
   row("primary", p1.mrays(primary.size()), pn.mrays(primary.size()));
   row("shadow", s1.mrays(shadow.size()), sn.mrays(shadow.size()));
+  row("primary, packets of 8", pk1.mrays(primary.size()), pkn.mrays(primary.size()));
+  row("shadow, packets of 8", sk1.mrays(shadow.size()), skn.mrays(shadow.size()));
 #if defined(FRAMELESS_HAVE_EMBREE)
   if (embree_ptr) {
     const EmbreeBench& embree = *embree_ptr;
@@ -290,11 +346,17 @@ int run_bench(BenchArgs& a) {
     row("ratio primary / intersect8", p1.mrays(1) / e81.mrays(1), pn.mrays(1) / e8n.mrays(1));
     row("ratio shadow / occluded1", s1.mrays(1) / es1.mrays(1), sn.mrays(1) / esn.mrays(1));
     row("ratio shadow / occluded8", s1.mrays(1) / es81.mrays(1), sn.mrays(1) / es8n.mrays(1));
+    row("ratio packets / intersect8", pk1.mrays(1) / e81.mrays(1), pkn.mrays(1) / e8n.mrays(1));
+    row("ratio sh. packets / occl.1", sk1.mrays(1) / es1.mrays(1), skn.mrays(1) / esn.mrays(1));
+    row("ratio sh. packets / occl.8", sk1.mrays(1) / es81.mrays(1), skn.mrays(1) / es8n.mrays(1));
     std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s, build %.1f ms)\n",
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
                 embree.version().c_str(), embree.build_ms());
   }
 #endif
+  std::printf("packets vs single rays: %zu of %zu primary and %zu of %zu shadow results differ\n",
+              primary.size() - packet_same, primary.size(), shadow.size() - packet_occ_same,
+              shadow.size());
   return 0;
 }
 
@@ -313,6 +375,8 @@ const bool registered = register_command(
           ->capture_default_str();
       app.add_flag("--json", a->json, "print one JSON object instead of a table");
       app.add_flag("--no-embree", a->no_embree, "skip the Embree comparison (when built with it)");
+      app.add_flag("--opaque", a->opaque,
+                   "ignore cut-out (alpha) surfaces, as the Embree comparison does");
       a->camera.add_to(app);
       return [a] { return run_bench(*a); };
     });

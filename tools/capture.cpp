@@ -22,6 +22,7 @@ struct CaptureArgs {
   double refresh = 30.0;
   bool deterministic = false;
   std::string layers;
+  std::string views;
   std::string path_file;
   double orbit = 0.0, dolly = 1.0, cut_at = -1.0, cut_orbit = 90.0;
   EngineFlags engine;
@@ -45,7 +46,8 @@ int run(const CaptureArgs& a) {
   o.out_dir = a.out;
   o.duration = a.duration;
   o.refresh_hz = a.refresh;
-  o.layers = split(a.layers == "all" ? "age,count,variance,epoch" : a.layers);
+  o.layers = split(a.layers == "all" ? "age,count,variance,epoch,levels" : a.layers);
+  o.views = split(a.views);
   o.progress = show_progress();
   o.mp4 = !a.no_mp4;
   o.contact_sheet = !a.no_sheet;
@@ -55,8 +57,9 @@ int run(const CaptureArgs& a) {
   if (!a.engine.apply(e, o.blend, error)) return report_error(error);
   e.deterministic = a.deterministic;
   e.samples_per_tick = a.samples_per_tick;
-  // Variance is tracked only when the capture writes the variance layer.
+  // Variance is tracked only when the capture writes the variance layer or view.
   for (const std::string& l : o.layers) e.track_variance |= l == "variance";
+  for (const std::string& v : o.views) e.track_variance |= v == "variance";
   o.blend.converge = !a.no_converge;
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
   // The output folder is checked before the scene is even loaded: a bad --out fails at once.
@@ -119,7 +122,11 @@ const bool registered = register_command(
       app.add_flag("--deterministic", a->deterministic,
                    "virtual clock: same seed, same files (bit for bit)");
       app.add_option("--layers", a->layers,
-                     "extra float layers: any of age,count,variance,epoch (or 'all')");
+                     "extra float layers: any of age,count,variance,epoch,levels (or 'all')");
+      app.add_option("--view", a->views,
+                     "also write these false-colour views per frame as NAME_NNNNN.png, drawn as "
+                     "the viewer draws them: levels (reflection/refraction levels per pixel, 0 "
+                     "dark blue .. 25+ red), age, count, variance, epoch; comma-separated");
       app.add_option("--path", a->path_file, "camera keyframes (JSON; a `view --record` file works)");
       app.add_option("--orbit", a->orbit, "orbit the look-at point by DEG over the capture");
       app.add_option("--dolly", a->dolly, "multiply the eye distance by F over the capture");

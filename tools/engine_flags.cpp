@@ -16,6 +16,8 @@ void EngineFlags::add_to(CLI::App& app) {
       ->capture_default_str();
   app.add_flag("--time-decay", time_decay, "alpha from the time since a pixel's last blend");
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
+  app.add_flag("--no-packets", no_packets,
+               "trace camera rays one by one instead of as 8-ray packets (same image, slower)");
   app.add_flag("--adaptive", adaptive,
                "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
 }
@@ -36,6 +38,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   e.update_percent = update_percent;
   e.seed = seed;
   e.jitter = !no_jitter;
+  e.packets = !no_packets;
   e.adaptive.enabled = adaptive;  // converged pixels skipped (docs/adaptive.md)
   blend.alpha = alpha;
   blend.time_decay = time_decay;

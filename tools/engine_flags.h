@@ -18,6 +18,7 @@ struct EngineFlags {
   float alpha = 0.5f;
   bool time_decay = false;
   bool no_jitter = false;
+  bool no_packets = false;
   bool adaptive = false;
   void add_to(CLI::App& app);
   // Fills the engine and blend settings; false with a one-line message for a bad mode or alpha.

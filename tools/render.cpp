@@ -7,6 +7,7 @@
 #include "core/scene_io.h"
 #include "display/atomic_file.h"
 #include "display/exr_io.h"
+#include "display/levels_view.h"
 #include "display/png_io.h"
 #include "frameless/tile_render.h"
 #include "tools/command_registry.h"
@@ -22,6 +23,7 @@ struct RenderArgs {
   int spp = 0;
   std::string out = "captures/render.exr";
   std::string png;
+  std::string levels_png;
   bool no_jitter = false;
   int threads = 0;
   double time = 0.0;
@@ -42,6 +44,7 @@ int run_render(const RenderArgs& a) {
   // Check every output before spending minutes rendering.
   if (!output_dir_ok(a.out, error)) return report_error(error);
   if (!a.png.empty() && !output_dir_ok(a.png, error)) return report_error(error);
+  if (!a.levels_png.empty() && !output_dir_ok(a.levels_png, error)) return report_error(error);
   if (a.spp < 0 || a.spp > 1 << 20) return report_error("--spp: must be between 1 and 1048576");
   if (!valid_threads(a.threads, error)) return report_error(error);
 
@@ -79,11 +82,22 @@ int run_render(const RenderArgs& a) {
   if (!a.png.empty())
     if (auto r = write_png(a.png, width, height, img.rgb.data()); !r)
       return report_error(r.error().message);
+  if (!a.levels_png.empty()) {
+    // The viewer's levels view: the deepest level over each pixel's samples, as false colour.
+    std::vector<float> rgb(3 * img.levels.size());
+    for (size_t i = 0; i < img.levels.size(); ++i) {
+      const Vec3 c = levels_color(img.levels[i]);
+      rgb[3 * i] = c.x, rgb[3 * i + 1] = c.y, rgb[3 * i + 2] = c.z;
+    }
+    if (auto r = write_png(a.levels_png, width, height, rgb.data()); !r)
+      return report_error(r.error().message);
+  }
   const double rays = double(width) * height * o.spp;
   std::printf("rendered %s: %dx%d, %d spp, %d threads, %.2f s (%.2f M samples/s), %llu dropped\n",
               a.scene.c_str(), width, height, o.spp, o.threads, img.seconds,
               rays / img.seconds * 1e-6, (unsigned long long)img.dropped);
-  std::printf("wrote %s%s%s\n", a.out.c_str(), a.png.empty() ? "" : " and ", a.png.c_str());
+  std::printf("wrote %s%s%s%s%s\n", a.out.c_str(), a.png.empty() ? "" : " and ", a.png.c_str(),
+              a.levels_png.empty() ? "" : " and ", a.levels_png.c_str());
   return 0;
 }
 
@@ -98,6 +112,9 @@ const bool registered = register_command(
       app.add_option("--spp", a->spp, "samples per pixel (default: the scene's)");
       app.add_option("--out", a->out, "output EXR file")->capture_default_str();
       app.add_option("--png", a->png, "also write an sRGB PNG here");
+      app.add_option("--levels-png", a->levels_png,
+                     "also write the reflection/refraction levels per pixel here, in the viewer's "
+                     "false colour (0 dark blue .. 25+ red)");
       app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
       app.add_option("--threads", a->threads, "render threads (default: all cores)");
       app.add_option("--time", a->time, "seconds: the instant moving objects are shown at (default 0)");

@@ -20,6 +20,7 @@ struct ViewArgs {
   std::string record, script, screenshot, snapshot_dir = "captures";
   int frames = 0;
   bool help_overlay = false;
+  std::string view = "shaded";
   CameraFlags camera;
 };
 
@@ -39,6 +40,9 @@ int run(const ViewArgs& a) {
   o.screenshot_path = a.screenshot;
   o.snapshot_dir = a.snapshot_dir;
   o.show_help = a.help_overlay;
+  if (!parse_view(a.view, o.view))
+    return report_error("--view: unknown view '" + a.view +
+                        "' (shaded, age, count, variance, epoch, levels)");
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   o.camera = scene->camera;
@@ -72,6 +76,10 @@ const bool registered = register_command(
       app.add_option("--snapshot-dir", a->snapshot_dir, "where P saves EXR snapshots")
           ->capture_default_str();
       app.add_flag("--show-help", a->help_overlay, "start with the controls shown");
+      app.add_option("--view", a->view,
+                     "view shown first (V cycles): shaded, age, count, variance, epoch, or levels "
+                     "(reflection/refraction levels per pixel: 0 dark blue .. 25+ red)")
+          ->capture_default_str();
       a->camera.add_to(app);
       app.footer(std::string("Exit status 3: no display (use `frameless capture`). Scenes: ") +
                  builtin_scene_help());

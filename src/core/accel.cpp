@@ -19,13 +19,6 @@
 namespace frameless {
 namespace {
 
-// Levels are bounded by the builder (SAH to depth 32, then medians), each pushes at most 7.
-constexpr int kStackSize = 512;
-// Ize 2013, "Robust BVH ray traversal": widening tfar by 1 + 2 gamma(3) makes the slab test
-// conservative under rounding, so a watertight triangle test is never culled by its box. We fold
-// the factor into 1 / dir for the exit planes, which costs one more rounding: gamma(4).
-constexpr float kRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
-
 struct StackEntry {
   uint32_t ref;
   uint32_t info;
@@ -103,6 +96,15 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     std::abort();
   }
   im.nodes = std::move(bvh.nodes);
+  im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
+  if (!im.nodes.empty())
+    for (int a = 0; a < 3; ++a) {
+      float lo = kInfinity, hi = -kInfinity;
+      for (int i = 0; i < kBvhWidth; ++i)
+        if (im.nodes[0].bounds[2 * a][i] <= im.nodes[0].bounds[2 * a + 1][i])
+          lo = std::min(lo, im.nodes[0].bounds[2 * a][i]), hi = std::max(hi, im.nodes[0].bounds[2 * a + 1][i]);
+      if (std::isfinite(hi - lo)) im.scene_size = std::max(im.scene_size, hi - lo);
+    }
 
   AccelStats& s = im.stats;
   s = {};
@@ -116,78 +118,12 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
                      geom.sphere_material.size() * sizeof(uint16_t) +
                      geom.patch_material.size() * sizeof(uint16_t);
   for (const PatchSurface& p : geom.patches) s.geometry_bytes += p.bytes();
+  build_instances(geom, config);
   s.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 namespace {
-
-// Per-ray constants of the slab test.
-struct BoxRay {
-  Vec3 org;
-  Vec3 inv;      // 1 / dir for the entry planes (infinite for zero components)
-  Vec3 inv_far;  // 1 / dir widened for the exit planes (see kRobustFar)
-  int near[3];   // bounds row of the entry plane per axis (lo when the direction is positive)
-};
-
-inline BoxRay make_box_ray(const Ray& ray) {
-  BoxRay b;
-  b.org = ray.org;
-  for (int a = 0; a < 3; ++a) {
-    b.inv[a] = 1.0f / ray.dir[a];
-    b.inv_far[a] = b.inv[a] * kRobustFar;
-    b.near[a] = 2 * a + (std::signbit(ray.dir[a]) ? 1 : 0);
-  }
-  return b;
-}
-
-// Tests the ray against the eight child boxes; returns the mask of boxes entered within
-// [tmin, tmax] and their entry distances. A ray parallel to a slab and lying in its boundary
-// plane gives 0 * inf = NaN for that slab; min/max take the accumulator (second operand of
-// maxps/minps) then, so the slab is ignored and the boundary counts as inside.
-inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmin, float tmax,
-                                   float* dist) {
-#if defined(__AVX2__)
-  const __m256 ox = _mm256_set1_ps(r.org.x), oy = _mm256_set1_ps(r.org.y),
-               oz = _mm256_set1_ps(r.org.z);
-  const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[0]]), ox),
-                                   _mm256_set1_ps(r.inv.x));
-  const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[1]]), oy),
-                                   _mm256_set1_ps(r.inv.y));
-  const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[2]]), oz),
-                                   _mm256_set1_ps(r.inv.z));
-  const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[0] ^ 1]), ox),
-                                   _mm256_set1_ps(r.inv_far.x));
-  const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[1] ^ 1]), oy),
-                                   _mm256_set1_ps(r.inv_far.y));
-  const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[2] ^ 1]), oz),
-                                   _mm256_set1_ps(r.inv_far.z));
-  const __m256 tn =
-      _mm256_max_ps(tnx, _mm256_max_ps(tny, _mm256_max_ps(tnz, _mm256_set1_ps(tmin))));
-  const __m256 tf =
-      _mm256_min_ps(tfx, _mm256_min_ps(tfy, _mm256_min_ps(tfz, _mm256_set1_ps(tmax))));
-  _mm256_store_ps(dist, tn);
-  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
-#else
-  uint32_t mask = 0;
-  for (int i = 0; i < kBvhWidth; ++i) {
-    float tn = tmin, tf = tmax;
-    for (int a = 0; a < 3; ++a) {
-      tn = std::max(tn, (n.bounds[r.near[a]][i] - r.org[a]) * r.inv[a]);  // NaN keeps tn
-      tf = std::min(tf, (n.bounds[r.near[a] ^ 1][i] - r.org[a]) * r.inv_far[a]);
-    }
-    dist[i] = tn;
-    mask |= uint32_t(tn <= tf) << i;
-  }
-  return mask;
-#endif
-}
-
-// Whether a candidate hit on prim survives the cut-out test (always, without cut-outs).
-inline bool alpha_opaque(const Accel::AlphaTest& a, const Geometry& g, uint32_t prim,
-                         const Ray& ray, float t, float u, float v) {
-  return !a.masked_material[g.material_of(prim)] || a.opaque(a.ctx, prim, ray, t, u, v);
-}
 
 template <bool kAnyHit, bool kCount = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
@@ -215,6 +151,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
     hit.u = u;
     hit.v = v;
     hit.prim = prim;
+    hit.inst = kInvalidId;
     found = true;
   };
 
@@ -288,11 +225,12 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
       if constexpr (kCount) counts->prims += count;
       for (uint32_t k = 0; k < count; ++k) {
         float t;
-        if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax, t)) {
-          if (alpha.opaque && !alpha_opaque(alpha, g, num_tris + ref + k, ray, t, 0.0f, 0.0f))
-            continue;
+        const uint32_t prim = num_tris + ref + k;
+        if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax_box, t) &&
+            (kAnyHit ? t <= tmax : closer_hit(t, prim, found, hit, ray.tmax))) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, prim, ray, t, 0.0f, 0.0f)) continue;
           if constexpr (kAnyHit) return true;
-          record(t, 0.0f, 0.0f, num_tris + ref + k);
+          record(t, 0.0f, 0.0f, prim);
         }
       }
     } else {
@@ -300,7 +238,8 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
       for (uint32_t k = 0; k < info; ++k) {
         const UVec3 tri = tris[ref + k];
         float t, u, v;
-        if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax, t, u, v)) {
+        if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax_box, t, u, v) &&
+            (kAnyHit ? t <= tmax : closer_hit(t, ref + k, found, hit, ray.tmax))) {
           if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
           if constexpr (kAnyHit) return true;
           record(t, u, v, ref + k);
@@ -323,14 +262,22 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
 }  // namespace
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
-  if (impl_->grid) return impl_->grid->intersect(ray, hit);
-  return impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
+  bool found;
+  if (impl_->grid)
+    found = impl_->grid->intersect(ray, hit);
+  else
+    found = impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
+  // Instances after the flat geometry, within its closest hit (both orders give one answer).
+  if (!impl_->tlas.empty()) found = intersect_instances(ray, hit, found);
+  return found;
 }
 
 bool Accel::occluded(const Ray& ray) const {
-  if (impl_->grid) return impl_->grid->occluded(ray);
+  if (impl_->grid) return impl_->grid->occluded(ray) || (!impl_->tlas.empty() && occluded_instances(ray));
   Hit unused;
-  return impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha);
+  if (impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha))
+    return true;
+  return !impl_->tlas.empty() && occluded_instances(ray);
 }
 
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {

@@ -25,6 +25,9 @@ struct TraversalCounts {
   uint64_t prims = 0;  // primitive tests
 };
 
+// Rays per coherent packet (Wald et al. 2001): one AVX2 lane each.
+inline constexpr int kPacketSize = 8;
+
 struct AccelConfig {
   AccelKind kind = AccelKind::kBvh;
   float grid_density = 2.0f;    // grid: target cells per primitive
@@ -74,6 +77,12 @@ class Accel {
   bool intersect(const Ray& ray, Hit& hit) const;
   // Any hit in [ray.tmin, ray.tmax] (early exit): for shadow rays.
   bool occluded(const Ray& ray) const;
+  // The same queries for n <= kPacketSize rays traced together through the tree (coherent
+  // packets: neighbouring camera rays, or shadow rays from neighbouring points). Each result is
+  // bit for bit what the single-ray query returns; hits[i] is reset on a miss. Packets whose
+  // rays point different ways along an axis, grids and spline patches go ray by ray.
+  void intersect_packet(const Ray* rays, int n, Hit* hits) const;
+  void occluded_packet(const Ray* rays, int n, bool* occluded) const;
   // The same queries, adding their work to `counts` (the auto trial and bench accel).
   bool intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const;
   bool occluded_counted(const Ray& ray, TraversalCounts& counts) const;
@@ -92,6 +101,11 @@ class Accel {
   };
   bool visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) const;
 
+  // Any hit on instanced geometry only (soft shadows: visit_cone covers the flat geometry, and
+  // instances block the shadow ray's axis like a hard shadow).
+  bool occluded_instances(const Ray& ray) const;
+  bool has_instances() const;
+
   // Cut-out surfaces: when set, a candidate hit on a primitive for which masked(prim) is true is
   // kept only if opaque(ctx, prim, ray, t, u, v) says so (alpha textures). Empty: no test at all.
   struct AlphaTest {
@@ -106,6 +120,9 @@ class Accel {
 
  private:
   void build_bvh(Geometry& geom, const AccelConfig& config);
+  // The top level over geom.instances (core/accel_instances.cpp).
+  void build_instances(Geometry& geom, const AccelConfig& config);
+  bool intersect_instances(const Ray& ray, Hit& hit, bool found) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -72,7 +72,8 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
     im.grid = std::make_unique<GridAccel>();
     im.grid->build(geom, gc);
   };
-  if (config.kind == AccelKind::kBvh) {
+  // Scenes with instances keep the BVH: the top level is a BVH over them (no grid of instances).
+  if (config.kind == AccelKind::kBvh || !geom.instances.empty()) {
     build_bvh(geom, config);
     return;
   }

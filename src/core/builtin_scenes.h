@@ -15,6 +15,12 @@ namespace frameless {
 // physics simulation (core/motion.h), soft shadows from a spherical light. Not yet finalized.
 std::unique_ptr<Scene> make_balls();
 
+// Materials of the built-in scenes, one per class (Parker's models, core/material.h).
+Material diffuse(const char* name, Vec3 kd);
+Material metal(const char* name, Vec3 ks, float phong);
+Material dielectric(const char* name, float ior, Vec3 extinction);
+Material polished(const char* name, Vec3 kd, float r0);
+
 // Largest N that "spheres:N" accepts.
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
@@ -35,6 +41,15 @@ Result<std::unique_ptr<Scene>> make_showcase();
 // (builtin_teapot.cpp), finalized.
 Result<std::unique_ptr<Scene>> make_teapot();
 Result<std::unique_ptr<Scene>> make_room();
+
+// OpenRT's sunflower field (builtin_sunflowers.cpp): ten plant kinds instanced `plants` times
+// (plus a few trees), finalized. The default count represents about one billion triangles.
+// flat: the same field copied into one plain mesh, without instancing (big-mesh benchmarks).
+inline constexpr uint64_t kDefaultSunflowers = 46000;
+inline constexpr uint64_t kMaxSunflowers = 1'000'000;
+Result<std::unique_ptr<Scene>> make_sunflowers(uint64_t plants = kDefaultSunflowers,
+                                               bool flat = false);
+inline constexpr uint64_t kMaxFlatSunflowers = 20000;  // about 430 million triangles
 
 inline constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
 

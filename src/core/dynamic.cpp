@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/instance.h"
 #include "core/intersect_sphere.h"
 #include "core/scene.h"
 #include "core/scene_analysis.h"
@@ -102,7 +103,12 @@ void evaluate_frame(const Scene& scene, const WorldState& w, double t, DynamicFr
 }
 
 bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit) {
-  bool found = scene.accel.intersect(ray, hit);
+  if (!scene.accel.intersect(ray, hit)) hit = Hit{};
+  return merge_dynamic_hit(frame, ray, hit);
+}
+
+bool merge_dynamic_hit(const DynamicFrame* frame, const Ray& ray, Hit& hit) {
+  bool found = hit.valid();
   if (!frame) return found;
   float tmax = found ? hit.t : ray.tmax;
   const size_t n = frame->spheres.size();
@@ -113,6 +119,7 @@ bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& r
       hit.t = t;
       hit.u = hit.v = 0.0f;
       hit.prim = kDynamicPrimBase + uint32_t(i);
+      hit.inst = kInvalidId;
       found = true;
     }
   }
@@ -131,6 +138,7 @@ bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ra
 
 SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
                                  const Hit& hit) {
+  if (hit.inst != kInvalidId) return instance_surface_point(scene.geometry, ray, hit);
   if (!is_dynamic_prim(hit.prim) || !frame) return surface_point(scene.geometry, ray, hit);
   const uint32_t i = hit.prim - kDynamicPrimBase;
   SurfacePoint sp = sphere_surface_point(frame->spheres[i], frame->sphere_material[i], ray, hit.t);

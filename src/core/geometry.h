@@ -1,6 +1,9 @@
 // Scene geometry as flat arrays (triangles and spheres); built once, read-only while rendering.
 #pragma once
+#include <memory>
 #include <vector>
+
+#include <glm/mat3x3.hpp>
 
 #include "core/bezier.h"
 #include "core/types.h"
@@ -13,6 +16,25 @@ struct Sphere {
   Vec3 center{0.0f};
   float radius = 1.0f;
 };
+
+// world = m * p + t (column-major glm matrix).
+struct Affine {
+  glm::mat3 m{1.0f};
+  Vec3 t{0.0f};
+  Vec3 point(const Vec3& p) const { return m * p + t; }
+  Vec3 vector(const Vec3& v) const { return m * v; }
+};
+
+// One placement of a shared mesh (core/instance.h).
+struct Instance {
+  uint32_t mesh = 0;                // index into Geometry::instance_meshes
+  Affine to_world;
+  Affine to_object;                 // inverse of to_world
+  glm::mat3 normal_to_world{1.0f};  // inverse transpose of to_world.m: normals stay normal
+  float stretch = 1.0f;             // largest column length of to_world.m: object lengths -> world
+};
+
+struct InstancedMesh;
 
 // All primitives of a scene. Primitive id p < num_triangles() is triangle p, then come the
 // spheres (p - num_triangles()), then the spline patches (p - num_triangles() - num_spheres()).
@@ -36,6 +58,9 @@ struct Geometry {
   // Soft shadows only (empty otherwise): per patch, (kPatchShadowGrid + 1)^2 surface points on a
   // regular (u, v) grid, the occluder the cone query sees (core/soft_shadow.cpp).
   std::vector<Vec3> patch_shadow_grid;
+  // Instances of shared meshes (two-level BVH, core/instance.h): the accel permutes instances.
+  std::vector<Instance> instances;
+  std::vector<std::shared_ptr<InstancedMesh>> instance_meshes;
 
   uint32_t num_triangles() const { return uint32_t(triangles.size()); }
   uint32_t num_spheres() const { return uint32_t(spheres.size()); }

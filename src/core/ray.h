@@ -17,6 +17,7 @@ struct Hit {
   uint32_t prim = kInvalidId;
   float u = 0.0f;  // triangle barycentric of vertex 1 (unused for spheres)
   float v = 0.0f;  // triangle barycentric of vertex 2 (unused for spheres)
+  uint32_t inst = kInvalidId;  // instance hit (prim then indexes its mesh), or kInvalidId
   bool valid() const { return prim != kInvalidId; }
 };
 

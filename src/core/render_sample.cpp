@@ -1,6 +1,8 @@
 // The pure per-sample function: camera ray, Whitted shading, NaN/Inf guard.
 #include "core/render_sample.h"
 
+#include <algorithm>
+
 #include "core/rng.h"
 #include "core/scene_analysis.h"
 #include "core/shading.h"
@@ -8,14 +10,17 @@
 namespace frameless {
 
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
-                          uint64_t rng_seed, const DynamicFrame* frame) {
+                          uint64_t rng_seed, const DynamicFrame* frame, const Hit* known_hit) {
   const Ray ray = camera_ray(camera, px, py);
   SampleResult out;
   Hit hit;
   SurfacePoint sp;
+  int levels = 0;
   // The shading path is chosen once per sample from the scene's features and skips.
-  out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0, Vec3(1.0f), nullptr, &hit, &sp,
-                                  rng_seed, frame);
+  out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
+                                  Vec3(1.0f), nullptr, &hit, &sp, rng_seed, frame, known_hit,
+                                  &levels);
+  out.levels = uint8_t(std::min(levels, 255));
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;
@@ -29,6 +34,16 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
     out.depth = kInfinity;
   }
   return out;
+}
+
+void primary_hits(const Scene& scene, const CameraBasis& camera, int n, const float* px,
+                  const float* py, Hit* hits) {
+  Ray rays[kPacketSize];
+  for (int b = 0; b < n; b += kPacketSize) {
+    const int m = std::min(kPacketSize, n - b);
+    for (int k = 0; k < m; ++k) rays[k] = camera_ray(camera, px[b + k], py[b + k]);
+    scene.accel.intersect_packet(rays, m, hits + b);
+  }
 }
 
 SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x, int y,

@@ -11,13 +11,22 @@ struct SampleResult {
   float depth = kInfinity;  // distance along the primary ray from the eye; +inf on a miss
   Vec3 normal{0.0f};  // shading normal at the primary hit (zero on a miss)
   bool valid = true;  // false: a NaN/Inf arose and the sample must be dropped (and counted)
+  uint8_t levels = 0; // deepest reflection/refraction level traced (seed figure 1d), saturating
 };
 
 // Traces the primary ray through continuous image position (px, py); rng_seed drives any
 // stochastic choice inside shading. frame: the moving objects, lights and materials at the
 // sample's instant (core/dynamic.h); null renders the scene as loaded, without dynamic objects.
+// known_hit (optional): the static scene's closest hit of this camera ray, from primary_hits.
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
-                          uint64_t rng_seed, const DynamicFrame* frame = nullptr);
+                          uint64_t rng_seed, const DynamicFrame* frame = nullptr,
+                          const Hit* known_hit = nullptr);
+
+// The static scene's closest hits of n camera rays through (px[i], py[i]), traced as coherent
+// packets (Accel::intersect_packet): exactly the hits single rays find, so trace_sample with
+// them returns the same samples bit for bit. Any n; consecutive rays should be neighbours.
+void primary_hits(const Scene& scene, const CameraBasis& camera, int n, const float* px,
+                  const float* py, Hit* hits);
 
 // Sample `sample_index` of pixel (x, y): jitter offset and rng seed derived from
 // (x, y, sample_index, scene.settings.seed). jitter=false samples the pixel centre.

@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/instance.h"
 #include "core/scene_build.h"
 #include "core/scene_io.h"
 #include "core/scene_json_materials.h"
@@ -172,6 +173,7 @@ struct Context {
   ImageCache images;
   std::set<uint32_t> object_space;  // solid textures that follow the object they are on
   PendingPhysics physics;           // physics balls, simulated once all objects are read
+  std::map<std::string, uint32_t> shared;  // "meshes": name -> Geometry::instance_meshes index
 };
 
 // The object's material. A material with object-space solid textures is copied for the object,
@@ -292,8 +294,50 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     const Vec3 hi = get_vec3(need(o, f, "max"), f + ".max");
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) fail(f, "box min must be below max on every axis");
     add_box(s, lo, hi, object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi))));
+  } else if (type == "instance") {
+    // One more placement of a mesh declared once under "meshes" (two-level BVH).
+    check_keys(o, f, {"type", "mesh", "transform"});
+    const std::string name = get_string(need(o, f, "mesh"), f + ".mesh");
+    const auto it = ctx.shared.find(name);
+    if (it == ctx.shared.end()) fail(f + ".mesh", "no mesh '" + name + "' under \"meshes\"");
+    const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
+    Affine a;
+    a.m = glm::mat3(m);
+    a.t = Vec3(m[3]);
+    Instance inst;
+    if (!make_instance(it->second, a, inst)) fail(f + ".transform", "singular or non-finite transform");
+    s.geometry.instances.push_back(inst);
   } else {
-    fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, bezier, plane or box)");
+    fail(f + ".type", "unknown object type '" + type +
+                          "' (sphere, mesh, triangles, bezier, plane, box or instance)");
+  }
+}
+
+// "meshes": {"name": mesh or triangles object, ...}: each is loaded and built once, in its own
+// object space, and placed by "instance" objects.
+void parse_shared_meshes(const json& j, Context& ctx) {
+  const json& meshes = require_object(j, "meshes");
+  for (auto it = meshes.begin(); it != meshes.end(); ++it) {
+    const std::string f = "meshes." + it.key();
+    require_object(it.value(), f);
+    const std::string type = get_string(need(it.value(), f, "type"), f + ".type");
+    if (type != "mesh" && type != "triangles") fail(f + ".type", "a shared mesh is of type mesh or triangles");
+    // Parsed like an object into an empty geometry, which then becomes the shared mesh.
+    Geometry scene_geometry;
+    std::swap(scene_geometry, ctx.scene.geometry);
+    auto mesh = std::make_shared<InstancedMesh>();
+    try {
+      parse_object(it.value(), f, ctx);
+    } catch (...) {
+      std::swap(scene_geometry, ctx.scene.geometry);
+      throw;
+    }
+    mesh->geometry = std::move(ctx.scene.geometry);
+    ctx.scene.geometry = std::move(scene_geometry);
+    mesh->name = it.key();
+    build_instanced_mesh(*mesh);
+    ctx.shared[it.key()] = uint32_t(ctx.scene.geometry.instance_meshes.size());
+    ctx.scene.geometry.instance_meshes.push_back(std::move(mesh));
   }
 }
 
@@ -301,7 +345,7 @@ void parse_scene(const json& root, Context& ctx) {
   Scene& s = ctx.scene;
   require_object(root, "(top level)");
   check_keys(root, "", {"camera", "settings", "ambient", "lights", "textures", "materials", "objects",
-                        "physics"});
+                        "physics", "meshes"});
   if (root.contains("settings")) parse_settings(root["settings"], s.settings);
   s.ambient = default_hemisphere_ambient();
   if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
@@ -316,6 +360,7 @@ void parse_scene(const json& root, Context& ctx) {
       ctx.materials[it.key()] = add_material(s, parse_material(it.key(), it.value(), f, ctx.textures, s));
     }
   }
+  if (root.contains("meshes")) parse_shared_meshes(root["meshes"], ctx);
   if (!root.contains("objects")) fail("objects", "missing (a scene needs at least one object)");
   const json& objs = root["objects"];
   if (!objs.is_array()) fail("objects", "expected an array, got " + type_name(objs));
@@ -324,6 +369,12 @@ void parse_scene(const json& root, Context& ctx) {
   finish_physics(root.contains("physics") ? &root["physics"] : nullptr, s, ctx.physics);
   Vec3 lo, hi;
   scene_bounds(s.geometry, lo, hi);
+  for (const Instance& inst : s.geometry.instances) {  // and on instances
+    Vec3 ilo, ihi;
+    instance_bounds(inst, *s.geometry.instance_meshes[inst.mesh], ilo, ihi);
+    lo = glm::min(lo, ilo);
+    hi = glm::max(hi, ihi);
+  }
   for (const DynamicObject& d : s.dynamic) {  // frame the camera on moving objects too
     lo = glm::min(lo, d.sphere.center - Vec3(d.sphere.radius));
     hi = glm::max(hi, d.sphere.center + Vec3(d.sphere.radius));

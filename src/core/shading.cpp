@@ -20,6 +20,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/instance.h"
 #include "core/scene_analysis.h"
 #include "core/soft_shadow.h"
 #include "core/texturing.h"
@@ -50,12 +51,13 @@ struct ShadeContext {
   uint64_t rng_seed;        // the sample's own stream (area-sampled shadows), drawn lazily
   mutable uint32_t draws;   // streams handed out so far in this sample
   const DynamicFrame* frame;  // moving objects, lights and materials at the sample's instant
+  mutable int deepest;        // deepest ray-tree level traced so far (the reflection depth view)
 };
 
 ShadeContext make_context(const Scene& scene, uint64_t rng_seed, const DynamicFrame* frame) {
   const RenderSettings& s = scene.settings;
   return ShadeContext{scene, s.skips.prune ? s.min_contribution : 0.0f, s.skips.any_hit,
-                      s.max_depth, rng_seed, 0, frame};
+                      s.max_depth, rng_seed, 0, frame, 0};
 }
 
 // Shadow factor of a light with an extent, or with transparent shadows (cold path: kept out of
@@ -153,7 +155,7 @@ template <class F>
 template <uint32_t F>
 Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
                 const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
-                SurfacePoint* first_point);
+                SurfacePoint* first_point, const Hit* known_hit);
 
 // Traces a secondary ray when the depth limit and the pruning threshold allow it.
 // `start` is the surface point before the origin offset (for the distance travelled inside).
@@ -169,7 +171,7 @@ inline Vec3 trace_child(const ShadeContext& c, const Vec3& start, const Vec3& or
   r.org = origin;
   r.dir = glm::normalize(dir);
   r.tmin = 0.0f;
-  return trace_from<F>(c, r, start, depth + 1, child_weight, medium, nullptr, nullptr);
+  return trace_from<F>(c, r, start, depth + 1, child_weight, medium, nullptr, nullptr, nullptr);
 }
 
 // Mirror direction of d about n; falls back to the geometric normal if the shading normal
@@ -288,17 +290,27 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
   if (!base.textured() || is_dynamic_prim(hit.prim)) return shade_material<F>(c, ray, base, sp, depth, weight, medium);
   MaterialParams m = base;
   SurfacePoint tsp = sp;
-  apply_textures(c.scene, ray, hit, m, tsp);
+  if (hit.inst != kInvalidId)
+    apply_instance_textures(c.scene, ray, hit, m, tsp);
+  else
+    apply_textures(c.scene, ray, hit, m, tsp);
   return shade_material<F>(c, ray, m, tsp, depth, weight, medium);
 }
 
 template <uint32_t F>
 Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int depth,
                 const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
-                SurfacePoint* first_point) {
+                SurfacePoint* first_point, const Hit* known_hit) {
   const Scene& scene = c.scene;
+  if (depth > c.deepest) c.deepest = depth;
   Hit hit;
-  const bool found = scene_intersect(scene, c.frame, ray, hit);
+  bool found;
+  if (known_hit) {  // a packet already traced the static scene: add what moves
+    hit = *known_hit;
+    found = merge_dynamic_hit(c.frame, ray, hit);
+  } else {
+    found = scene_intersect(scene, c.frame, ray, hit);
+  }
   if (first_hit) *first_hit = hit;
   if (!found) {
     Vec3 bg = scene.settings.background;
@@ -333,7 +345,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
 
 // One entry per shading path, indexed by its ShadeBits.
 using TraceFn = Vec3 (*)(const ShadeContext&, const Ray&, const Vec3&, int, const Vec3&,
-                         const MaterialParams*, Hit*, SurfacePoint*);
+                         const MaterialParams*, Hit*, SurfacePoint*, const Hit*);
 template <size_t... I>
 constexpr std::array<TraceFn, sizeof...(I)> trace_table(std::index_sequence<I...>) {
   return {&trace_from<uint32_t(I)>...};
@@ -403,9 +415,12 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
                          const Vec3& weight, const MaterialParams* medium, Hit* first_hit,
                          SurfacePoint* first_point, uint64_t rng_seed,
-                         const DynamicFrame* frame) {
-  return kTracePaths[path % kShadePaths](make_context(scene, rng_seed, frame), ray, ray.org, depth,
-                                         weight, medium, first_hit, first_point);
+                         const DynamicFrame* frame, const Hit* known_hit, int* levels) {
+  const ShadeContext c = make_context(scene, rng_seed, frame);
+  const Vec3 l = kTracePaths[path % kShadePaths](c, ray, ray.org, depth, weight, medium, first_hit,
+                                                 first_point, known_hit);
+  if (levels) *levels = c.deepest - depth;
+  return l;
 }
 
 }  // namespace frameless

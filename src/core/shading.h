@@ -40,10 +40,13 @@ Vec3 trace_radiance(const Scene& scene, const Ray& ray, int depth, const Vec3& w
 // trace_radiance on a given shading path (ShadeBits, core/scene_analysis.h): trace_sample picks
 // the path once per sample. A path must keep every bit the scene needs (shade_path does).
 // rng_seed drives the stochastic choices of the sample (area-sampled shadows); frame (optional)
-// holds what moves at the sample's instant (core/dynamic.h).
+// holds what moves at the sample's instant (core/dynamic.h). known_hit (optional): the static
+// scene's closest hit of `ray`, already found (a ray packet); moving objects are still tested.
+// levels (optional) receives the deepest reflection/refraction level traced (0: the ray alone).
 Vec3 trace_radiance_path(const Scene& scene, uint32_t path, const Ray& ray, int depth,
                          const Vec3& weight, const MaterialParams* medium, Hit* first_hit = nullptr,
                          SurfacePoint* first_point = nullptr, uint64_t rng_seed = 0,
-                         const DynamicFrame* frame = nullptr);
+                         const DynamicFrame* frame = nullptr, const Hit* known_hit = nullptr,
+                         int* levels = nullptr);
 
 }  // namespace frameless

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "core/instance.h"
+
 namespace frameless {
 
 namespace {
@@ -42,9 +44,9 @@ Vec3 to_world(const Vec3& t, const Vec3& n, const Vec3& dpdu) {
   return t.x * tu + t.y * tv + t.z * n;
 }
 
-bool alpha_opaque(const void* ctx, uint32_t prim, const Ray& ray, float t, float u, float v) {
-  const Scene& scene = *static_cast<const Scene*>(ctx);
-  const MaterialParams& m = scene.materials[material_id(scene.geometry, prim)];
+bool opaque_at(const Scene& scene, const Geometry& g, uint32_t prim, const Ray& ray, float t,
+               float u, float v) {
+  const MaterialParams& m = scene.materials[material_id(g, prim)];
   float alpha = m.opacity;
   if (m.alpha_tex != kNoTexture) {
     Hit h;
@@ -53,12 +55,23 @@ bool alpha_opaque(const void* ctx, uint32_t prim, const Ray& ray, float t, float
     h.u = u;
     h.v = v;
     TexturePoint at;
-    at.uv = hit_uv(scene.geometry, ray, h);
+    at.uv = hit_uv(g, ray, h);
     at.p = ray.org + t * ray.dir;
     const Vec4 texel = sample_texture(scene.textures[m.alpha_tex], at);
     alpha *= m.alpha_channel == 3 ? texel.w : texel.x;
   }
   return alpha >= m.alpha_cutoff;
+}
+
+bool alpha_opaque(const void* ctx, uint32_t prim, const Ray& ray, float t, float u, float v) {
+  const Scene& scene = *static_cast<const Scene*>(ctx);
+  return opaque_at(scene, scene.geometry, prim, ray, t, u, v);
+}
+
+// The same for a shared mesh's own BVH: its rays are in object space, as its geometry.
+bool mesh_alpha_opaque(const void* ctx, uint32_t prim, const Ray& ray, float t, float u, float v) {
+  const InstancedMesh& mesh = *static_cast<const InstancedMesh*>(ctx);
+  return opaque_at(*mesh.scene, mesh.geometry, prim, ray, t, u, v);
 }
 
 }  // namespace
@@ -83,27 +96,27 @@ Vec2 hit_uv(const Geometry& g, const Ray& ray, const Hit& hit) {
   return Vec2(u, 1.0f - v);
 }
 
-void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
-                    SurfacePoint& sp) {
+void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const Hit& hit,
+                    MaterialParams& m, SurfacePoint& sp) {
   TexturePoint at;
-  at.uv = hit_uv(scene.geometry, ray, hit);
+  at.uv = hit_uv(g, ray, hit);
   at.p = sp.p;
   const std::vector<Texture>& tex = scene.textures;
   if (m.kd_tex != kNoTexture) m.kd *= Vec3(sample_texture(tex[m.kd_tex], at));
   if (m.kh_tex != kNoTexture) m.kh *= Vec3(sample_texture(tex[m.kh_tex], at));
   if (m.ks_tex != kNoTexture) m.ks *= Vec3(sample_texture(tex[m.ks_tex], at));
   if (m.normal_tex == kNoTexture && m.bump_tex == kNoTexture) return;
-  const uint32_t nt = scene.geometry.num_triangles();
+  const uint32_t nt = g.num_triangles();
   // The frame is built on the outward normal, so a surface seen from behind is perturbed the
   // same way as from the front (then turned to the viewer's side below).
   const Vec3 outward = sp.front_face ? sp.ng : -sp.ng;
   const Vec3 ns_out = sp.front_face ? sp.ns : -sp.ns;
   UvTangent frame;
   if (hit.prim < nt) {
-    frame = triangle_dpdu(scene.geometry, hit.prim, outward);
-  } else if (hit.prim >= scene.geometry.first_patch()) {
+    frame = triangle_dpdu(g, hit.prim, outward);
+  } else if (hit.prim >= g.first_patch()) {
     Vec3 du, dv;  // dP/du of the patch is the tangent along u
-    bezier_eval(scene.geometry.patches[hit.prim - scene.geometry.first_patch()].patch(), hit.u,
+    bezier_eval(g.patches[hit.prim - g.first_patch()].patch(), hit.u,
                 hit.v, &du, &dv);
     frame.dpdu = glm::dot(du, du) > 0.0f ? du : glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);
     frame.handedness = glm::dot(glm::cross(du, dv), outward) < 0.0f ? -1.0f : 1.0f;
@@ -141,6 +154,11 @@ void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, Material
   sp.ns = n;
 }
 
+void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
+                    SurfacePoint& sp) {
+  apply_textures(scene, scene.geometry, ray, hit, m, sp);
+}
+
 bool cutout_opaque(const Scene& scene, uint32_t prim, const Ray& ray, float t, float u, float v) {
   return alpha_opaque(&scene, prim, ray, t, u, v);
 }
@@ -159,6 +177,17 @@ void install_alpha_test(Scene& scene) {
     test.opaque = &alpha_opaque;
   }
   scene.accel.set_alpha_test(test);
+  // Shared meshes test their own cut-outs in object space, with the scene's materials.
+  for (const std::shared_ptr<InstancedMesh>& mesh : scene.geometry.instance_meshes) {
+    mesh->scene = &scene;
+    Accel::AlphaTest mt;
+    if (any) {
+      mt.ctx = mesh.get();
+      mt.masked_material = scene.cutout_materials.data();
+      mt.opaque = &mesh_alpha_opaque;
+    }
+    mesh->accel.set_alpha_test(mt);
+  }
 }
 
 }  // namespace frameless

@@ -13,6 +13,9 @@ Vec2 hit_uv(const Geometry& geom, const Ray& ray, const Hit& hit);
 // Multiplies the textured colours into m and perturbs sp.ns by the normal or bump map.
 void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
                     SurfacePoint& sp);
+// The same on geometry g (a shared mesh's, with an object-space ray and hit).
+void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const Hit& hit,
+                    MaterialParams& m, SurfacePoint& sp);
 
 // Whether a hit (t, barycentrics u, v) on primitive prim is on an opaque part of its surface.
 bool cutout_opaque(const Scene& scene, uint32_t prim, const Ray& ray, float t, float u, float v);

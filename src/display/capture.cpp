@@ -18,6 +18,7 @@
 #include "display/gl_presenter.h"
 #include "display/manifest.h"
 #include "display/osmesa_context.h"
+#include "display/png_io.h"
 #include "frameless/engine.h"
 
 namespace frameless {
@@ -44,6 +45,7 @@ struct Writer {
   Manifest manifest;
   std::string manifest_path;
   std::vector<std::string> frame_paths;
+  std::vector<ViewMode> views;  // opt.views, parsed
   std::vector<float> rgb;
   std::string settings_text;
 
@@ -59,14 +61,31 @@ struct Writer {
   }
 
   // Draws the image exactly as the window would (linear float target), reads it back and writes
-  // the EXR, then the manifest that lists it. On failure nothing new is left behind.
+  // the false-colour views' PNGs, the EXR, then the manifest that lists them. On failure nothing
+  // new is left behind.
   Result<bool> write_frame(const DisplayImage& img, uint64_t samples, double wall_time,
                            const Camera& camera) {
     const int index = int(manifest.frames.size());
     const std::string name = capture_frame_name(index);
     const std::string path = join(opt.out_dir, name);
+    std::vector<std::string> written;  // this frame's files so far, removed if a later one fails
+    auto fail = [&](Result<bool> r) {
+      for (const std::string& p : written) std::remove(p.c_str());
+      return r;
+    };
+    std::map<std::string, std::string> view_files;
+    for (size_t v = 0; v < views.size(); ++v) {
+      presenter.upload(img, views[v]);
+      if (auto r = presenter.render_linear(rgb); !r.ok()) return fail(r);
+      const std::string view_name = capture_view_name(opt.views[v], index);
+      const std::string view_path = join(opt.out_dir, view_name);
+      if (auto h = check_hook(view_path); !h.ok()) return fail(h);
+      if (auto p = write_png(view_path, img.width, img.height, rgb.data()); !p.ok()) return fail(p);
+      written.push_back(view_path);
+      view_files[opt.views[v]] = view_name;
+    }
     presenter.upload(img, ViewMode::shaded);
-    if (auto r = presenter.render_linear(rgb); !r.ok()) return r;
+    if (auto r = presenter.render_linear(rgb); !r.ok()) return fail(r);
     ExrAttributes a;
     a.frames_per_second = opt.refresh_hz;
     if (wall_time >= 0) {
@@ -83,8 +102,9 @@ struct Writer {
     a.strings["seed"] = std::to_string(opt.engine.seed);
     a.strings["software"] = std::string("frameless ") + FRAMELESS_VERSION;
     a.strings["settings"] = settings_text;
-    if (auto h = check_hook(path); !h.ok()) return h;
-    if (auto w = write_display_exr(path, img, rgb.data(), opt.layers, a); !w.ok()) return w;
+    if (auto h = check_hook(path); !h.ok()) return fail(h);
+    if (auto w = write_display_exr(path, img, rgb.data(), opt.layers, a); !w.ok()) return fail(w);
+    written.push_back(path);
     ManifestFrame f;
     f.index = index;
     f.file = name;
@@ -96,12 +116,12 @@ struct Writer {
     f.samples = samples;
     f.coverage = img.info.coverage;
     f.mode = to_string(img.info.mode);
+    f.views = std::move(view_files);
     manifest.frames.push_back(f);
     if (auto m = write_manifest_now(); !m.ok()) {
       // The old manifest stays; the frame it does not list must go so the two agree.
       manifest.frames.pop_back();
-      std::remove(path.c_str());
-      return m;
+      return fail(m);
     }
     frame_paths.push_back(path);
     return true;
@@ -128,6 +148,8 @@ Result<bool> write_display_exr(const std::string& path, const DisplayImage& img,
       std::copy(img.variance.begin(), img.variance.begin() + ptrdiff_t(n), dst);
     } else if (name == "epoch") {
       for (size_t i = 0; i < n; ++i) dst[i] = float(img.epoch[i]);
+    } else if (name == "levels") {
+      for (size_t i = 0; i < n; ++i) dst[i] = i < img.levels.size() ? float(img.levels[i]) : 0.0f;
     } else {
       return Error{path + ": unknown layer '" + name + "'"};
     }
@@ -140,6 +162,12 @@ std::string capture_frame_name(int index) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "frame_%05d.exr", index);
   return buf;
+}
+
+std::string capture_view_name(const std::string& view, int index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "_%05d.png", index);
+  return view + buf;
 }
 
 Result<bool> prepare_output_dir(const std::string& dir) {
@@ -165,7 +193,17 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
   for (const std::string& l : opt.layers) {
     bool known = false;
     for (const char* k : kCaptureLayers) known |= l == k;
-    if (!known) return Error{"--layers: unknown layer '" + l + "' (age, count, variance, epoch)"};
+    if (!known)
+      return Error{"--layers: unknown layer '" + l + "' (age, count, variance, epoch, levels)"};
+  }
+  std::vector<ViewMode> views;
+  for (const std::string& v : opt.views) {
+    ViewMode m = ViewMode::shaded;
+    if (!parse_view(v, m) || m == ViewMode::shaded)
+      return Error{"--view: unknown view '" + v + "' (levels, age, count, variance, epoch)"};
+    if (std::find(views.begin(), views.end(), m) != views.end())
+      return Error{"--view: '" + v + "' is named twice"};
+    views.push_back(m);
   }
   if (const std::string bad = validate(opt.engine); !bad.empty()) return Error{bad};
   const Camera start = opt.path.keyframes.empty() ? opt.camera : evaluate_camera_path(opt.path, 0.0);
@@ -181,6 +219,7 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
   CaptureResult result;
   result.gl_renderer = presenter.value()->renderer();
   Writer w{opt, hooks, *presenter.value()};
+  w.views = std::move(views);
   w.manifest_path = join(opt.out_dir, "manifest.json");
   nlohmann::json& s = w.manifest.settings;
   s = opt.settings;
@@ -204,6 +243,7 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
   s["decay_seconds"] = opt.blend.decay_seconds;
   s["converge"] = opt.blend.converge;
   s["layers"] = opt.layers;
+  s["views"] = opt.views;
   s["camera_path_keyframes"] = opt.path.keyframes.size();
   s["gl_renderer"] = result.gl_renderer;
   w.settings_text = s.dump();

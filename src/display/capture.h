@@ -20,7 +20,7 @@
 namespace frameless {
 
 // Float layers a capture can add next to the half RGB image.
-inline constexpr const char* kCaptureLayers[] = {"age", "count", "variance", "epoch"};
+inline constexpr const char* kCaptureLayers[] = {"age", "count", "variance", "epoch", "levels"};
 
 struct CaptureOptions {
   std::string out_dir;             // frames, manifest and quick looks go here (created if missing)
@@ -31,6 +31,9 @@ struct CaptureOptions {
   Camera camera;                   // start camera (used when `path` is empty)
   CameraPath path;                 // camera over time; empty: still camera
   std::vector<std::string> layers; // subset of kCaptureLayers
+  // False-colour views (ViewMode names but "shaded", e.g. "levels") drawn like the viewer's and
+  // written per frame as NAME_NNNNN.png next to the EXR (listed in the manifest's frame records).
+  std::vector<std::string> views;
   bool contact_sheet = true;       // contact_sheet.png after the frames
   bool mp4 = true;                 // sequence.mp4 when ffmpeg is installed
   bool progress = false;           // one updating line on stderr
@@ -57,13 +60,15 @@ Result<bool> prepare_output_dir(const std::string& dir);
 
 // Writes a display image as EXR: half R, G, B from `rgb` (3 floats per pixel, row 0 at the top;
 // null: the image's own rgb) plus the named float layers of kCaptureLayers (age in seconds,
-// +inf where never updated; count; variance; epoch). `attributes` are added as given.
+// +inf where never updated; count; variance; epoch; levels). `attributes` are added as given.
 Result<bool> write_display_exr(const std::string& path, const DisplayImage& image, const float* rgb,
                                const std::vector<std::string>& layers,
                                const ExrAttributes& attributes);
 
 // "frame_00042.exr"
 std::string capture_frame_name(int index);
+// "levels_00042.png": a false-colour view's frame
+std::string capture_view_name(const std::string& view, int index);
 
 // Runs the capture. On a write failure mid-way the error says so, and every frame already written
 // stays valid and is exactly what manifest.json lists.

@@ -19,6 +19,7 @@ void DisplayImage::reset(int w, int h) {
   sample_count.assign(n, 0);
   variance.assign(n, 0.0f);
   epoch.assign(n, 0);
+  levels.assign(n, 0);
 }
 
 }  // namespace frameless

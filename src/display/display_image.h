@@ -32,6 +32,7 @@ struct DisplayImage {
   std::vector<uint32_t> sample_count; // samples since the pixel's camera epoch began
   std::vector<float> variance;        // luminance variance since the epoch began (0 if untracked)
   std::vector<uint32_t> epoch;        // camera epoch of the pixel's newest sample (0: never)
+  std::vector<uint8_t> levels;        // deepest reflection/refraction level of its newest update
   FrameInfo info;                     // the tick that produced this image
 
   size_t pixels() const { return size_t(width) * size_t(height); }

@@ -82,6 +82,7 @@ struct PixelImage {
   int height = 0;
   LayoutPtr layout;
   std::vector<DisplayPixel> px;
+  std::vector<uint8_t> levels;  // by slot like px, apart because DisplayPixel fills 32 bytes
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
 
@@ -93,11 +94,13 @@ struct PixelImage {
     height = h;
     layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
+    levels.assign(pixels(), 0);
   }
 };
 
-// Writes the layers of `p` into pixel i of `dst`.
-inline void export_pixel(const DisplayPixel& p, DisplayImage& dst, size_t i) {
+// Writes the layers of slot `s` of `src` into pixel i of `dst`.
+inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, size_t i) {
+  const DisplayPixel& p = src.px[s];
   dst.rgb[3 * i] = p.rgb[0];
   dst.rgb[3 * i + 1] = p.rgb[1];
   dst.rgb[3 * i + 2] = p.rgb[2];
@@ -105,20 +108,22 @@ inline void export_pixel(const DisplayPixel& p, DisplayImage& dst, size_t i) {
   dst.sample_count[i] = p.count;
   dst.variance[i] = p.variance;
   dst.epoch[i] = p.epoch;
+  dst.levels[i] = src.levels[s];
 }
 
 // Converts the whole image into the public layer layout. It walks the pixels in order and
 // gathers each from its slot: the writes stream, and the reads of a band of rows stay within
 // the few hundred kilobytes of the Hilbert chunks that cover it.
 void export_image(const PixelImage& src, DisplayImage& dst) {
-  if (dst.width != src.width || dst.height != src.height || dst.epoch.size() != src.pixels())
+  if (dst.width != src.width || dst.height != src.height || dst.epoch.size() != src.pixels() ||
+      dst.levels.size() != src.pixels())
     dst.reset(src.width, src.height);
   const size_t n = src.pixels();
   if (src.layout) {
     const uint32_t* slot = src.layout->slot_of.data();
-    for (size_t i = 0; i < n; ++i) export_pixel(src.px[slot[i]], dst, i);
+    for (size_t i = 0; i < n; ++i) export_pixel(src, slot[i], dst, i);
   } else {
-    for (size_t i = 0; i < n; ++i) export_pixel(src.px[i], dst, i);
+    for (size_t i = 0; i < n; ++i) export_pixel(src, i, dst, i);
   }
   dst.info = src.info;
 }
@@ -131,7 +136,7 @@ void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
     for (uint64_t t = synced; t < now; ++t)
       for (const SlotRun& run : img.history.runs[t % kHistory])
         for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
-          export_pixel(img.px[s], out, img.pixel_of(s));
+          export_pixel(img, s, out, img.pixel_of(s));
     out.info = img.info;
   } else {
     export_image(img, out);
@@ -146,7 +151,12 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.layout = std::move(layout);
   const size_t n = src.pixels();
   dst.px.resize(n);
-  for (size_t s = 0; s < n; ++s) dst.px[s] = src.px[src.slot_of(dst.pixel_of(s))];
+  dst.levels.resize(n);
+  for (size_t s = 0; s < n; ++s) {
+    const uint32_t from = src.slot_of(dst.pixel_of(s));
+    dst.px[s] = src.px[from];
+    dst.levels[s] = src.levels[from];
+  }
 }
 
 }  // namespace
@@ -230,6 +240,7 @@ struct TickSink final : UpdateSink {
   DisplayThread::Impl& d;
   const BlendRule rule;
   PixelImage* image = nullptr;
+  const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
   std::vector<SlotRun>* dirty = nullptr;
   bool full = false;          // this tick changed (or cleared) the whole image
   bool conventional = false;
@@ -249,6 +260,7 @@ void TickSink::begin(const CollectResult& r) {
   conventional = r.mode == RenderMode::conventional;
   full = d.catch_up(r);
   image = &d.buf[d.back];
+  levels = r.levels;
   dirty = &d.history.runs[d.tick_index % kHistory];
   dirty->clear();
 }
@@ -271,12 +283,15 @@ inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u) {
 
 void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   DisplayPixel* px = image->px.data() + first;
+  uint8_t* lv = image->levels.data() + first;
   PixelSnapshot u;
   for (size_t i = 0; i < count; ++i) {
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == px[i].seq) continue;
     show(px[i], u);
     px[i].seq = u.seq;
+    // Read after the state's seq: these levels are the shown update's or a newer one's.
+    if (levels) lv[i] = levels[image->pixel_of(first + i)].load(std::memory_order_relaxed);
   }
   if (full) return;
   dirty->push_back({uint32_t(first), uint32_t(count)});
@@ -290,6 +305,7 @@ void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
     if (pixels[i].epoch == 0) continue;
     show(image->px[i], pixels[i]);
     image->px[i].seq = 0;  // frames carry no sequence number; frameless updates compare against 0
+    image->levels[i] = pixels[i].levels;
   }
   full = true;
 }
@@ -361,11 +377,14 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.height = src.height;
     img.layout = src.layout;
     img.px = src.px;
+    img.levels = src.levels;
     return false;
   }
   for (uint64_t t = have; t < tick_index; ++t)
-    for (const SlotRun& run : history.runs[t % kHistory])
+    for (const SlotRun& run : history.runs[t % kHistory]) {
       std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
+      std::memcpy(&img.levels[run.first], &src.levels[run.first], run.count);
+    }
   return false;
 }
 

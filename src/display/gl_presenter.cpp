@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "display/levels_view.h"
+
 namespace frameless {
 namespace {
 
@@ -23,7 +25,8 @@ void main() {
 }
 )";
 
-// mode: 0 shaded, 1 age, 2 count, 3 variance, 4 epoch (see ViewMode).
+// mode: 0 shaded, 1 age, 2 count, 3 variance, 4 epoch, 5 levels (see ViewMode); levels are
+// coloured on the CPU (levels_color, which the tests check) and uploaded as the image.
 const char* kImageFs = R"(#version 330 core
 in vec2 uv;
 out vec4 color;
@@ -126,11 +129,21 @@ const char* to_string(ViewMode mode) {
     case ViewMode::count: return "count";
     case ViewMode::variance: return "variance";
     case ViewMode::epoch: return "epoch";
+    case ViewMode::levels: return "levels";
   }
   return "?";
 }
 
 ViewMode next_view(ViewMode mode) { return ViewMode((int(mode) + 1) % kViewModeCount); }
+
+bool parse_view(const std::string& name, ViewMode& mode) {
+  for (int m = 0; m < kViewModeCount; ++m)
+    if (name == to_string(ViewMode(m))) {
+      mode = ViewMode(m);
+      return true;
+    }
+  return false;
+}
 
 namespace {
 
@@ -268,6 +281,8 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
     const float count = i < image.sample_count.size() ? float(image.sample_count[i]) : 0.0f;
     const float var = i < image.variance.size() ? image.variance[i] : 0.0f;
     const uint32_t ep = i < image.epoch.size() ? image.epoch[i] : 0;
+    const int lv = i < image.levels.size() ? int(image.levels[i]) : 0;
+    s.max_levels = std::max(s.max_levels, lv);
     s.max_age = std::max(s.max_age, age);
     s.max_count = std::max(s.max_count, count);
     s.max_variance = std::max(s.max_variance, var);
@@ -278,7 +293,18 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
       case ViewMode::count: layer_[i] = count; break;
       case ViewMode::variance: layer_[i] = var; break;
       case ViewMode::epoch: layer_[i] = ep == 0 ? -1.0f : float(newest - ep); break;
+      case ViewMode::levels: break;
     }
+  }
+  // The levels view replaces the image itself: the shader shows it as it shows shaded pixels.
+  const float* rgb = image.rgb.data();
+  if (mode == ViewMode::levels) {
+    view_rgb_.resize(3 * n);
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3 c = levels_color(i < image.levels.size() ? image.levels[i] : 0u);
+      view_rgb_[3 * i] = c.x, view_rgb_[3 * i + 1] = c.y, view_rgb_[3 * i + 2] = c.z;
+    }
+    rgb = view_rgb_.data();
   }
   s.coverage = double(current) / double(n);
   // Normalise the heat maps to [0, 1]: age linear, count and variance on a log scale.
@@ -295,9 +321,9 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
   gl.BindTexture(GL_TEXTURE_2D, rgb_tex_);
   if (resized) {
     set_nearest(gl);
-    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, width_, height_, 0, GL_RGB, GL_FLOAT, image.rgb.data());
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, width_, height_, 0, GL_RGB, GL_FLOAT, rgb);
   } else {
-    gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, image.rgb.data());
+    gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, rgb);
   }
   gl.ActiveTexture(GL_TEXTURE1);
   gl.BindTexture(GL_TEXTURE_2D, layer_tex_);

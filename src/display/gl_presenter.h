@@ -12,16 +12,20 @@
 namespace frameless {
 
 // What the image shows: the shaded display image or one per-pixel layer as a false-colour map.
-enum class ViewMode { shaded, age, count, variance, epoch };
-inline constexpr int kViewModeCount = 5;
-const char* to_string(ViewMode mode);  // "shaded", "age", "count", "variance", "epoch"
+// levels: reflection/refraction levels per pixel (display/levels_view.h).
+enum class ViewMode { shaded, age, count, variance, epoch, levels };
+inline constexpr int kViewModeCount = 6;
+const char* to_string(ViewMode mode);  // "shaded", "age", "count", "variance", "epoch", "levels"
 ViewMode next_view(ViewMode mode);
+// The mode named `name` (as to_string writes it); false if there is none.
+bool parse_view(const std::string& name, ViewMode& mode);
 
 // Scales of the false-colour views, found from the image at upload (shown in the overlay).
 struct ViewScale {
   float max_age = 0;       // seconds
   float max_count = 0;     // samples
   float max_variance = 0;  // luminance variance
+  int max_levels = 0;      // reflection/refraction levels
   double coverage = 0;     // fraction of pixels on the newest camera epoch
 };
 
@@ -62,6 +66,7 @@ class GlPresenter {
   ViewMode mode_ = ViewMode::shaded;
   ViewScale scale_;
   std::vector<float> layer_;      // scratch for the false-colour layer (display-side only)
+  std::vector<float> view_rgb_;   // scratch for views coloured on the CPU (levels)
   std::vector<float> text_verts_; // scratch for overlay quads
 };
 

@@ -18,6 +18,7 @@
 #include "display/display_thread.h"
 #include "display/exr_io.h"
 #include "display/gl_presenter.h"
+#include "display/levels_view.h"
 #include "display/manifest.h"
 #include "display/png_io.h"
 #include "frameless/engine.h"
@@ -107,7 +108,7 @@ struct Viewer {
     a.doubles["frameTime"] = img.info.virtual_time;
     a.strings["renderMode"] = to_string(img.info.mode);
     a.strings["seed"] = std::to_string(opt.engine.seed);
-    auto r = write_display_exr(path, img, nullptr, {"age", "count", "variance", "epoch"}, a);
+    auto r = write_display_exr(path, img, nullptr, {"age", "count", "variance", "epoch", "levels"}, a);
     status = r.ok() ? "saved " + path : r.error().message;
     std::fprintf(stderr, "frameless: %s\n", status.c_str());
     dirty = true;
@@ -202,6 +203,10 @@ struct Viewer {
     if (view == ViewMode::count) lines.push_back("count: log, white = " + si(s.max_count));
     if (view == ViewMode::variance) lines.push_back("variance: log scale");
     if (view == ViewMode::epoch) lines.push_back("epoch: green newest, red older");
+    if (view == ViewMode::levels) {
+      lines.push_back("reflection levels (max " + std::to_string(s.max_levels) + "):");
+      lines.push_back(kLevelsLegend);
+    }
     if (help) lines.insert(lines.end(), kHelp.begin(), kHelp.end());
     else lines.push_back("H: help");
     if (!status.empty()) lines.push_back(status);
@@ -309,6 +314,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
   v.window = window, v.engine = &engine, v.display = &display, v.presenter = presenter.value().get();
   v.camera = v.home = opt.camera;
   v.help = opt.show_help;
+  v.view = opt.view;
   if (!opt.record_path.empty()) v.recording.keyframes.push_back({0.0, opt.camera});
   glfwSetWindowUserPointer(window, &v);
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {

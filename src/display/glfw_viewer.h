@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "display/blend.h"
+#include "display/gl_presenter.h"
 #include "frameless/engine_config.h"
 
 namespace frameless {
@@ -24,6 +25,7 @@ struct ViewerOptions {
   std::string screenshot_path;    // PNG of the window when quitting through max_frames
   std::string snapshot_dir = "captures";  // where P saves EXR snapshots
   bool show_help = false;         // start with the help panel open
+  ViewMode view = ViewMode::shaded;  // the view shown first (V cycles)
 };
 
 // Opens the window and runs until it is closed (Esc), the script quits or max_frames is reached.

@@ -41,6 +41,7 @@ nlohmann::json manifest_to_json(const Manifest& m) {
                       {"samples", f.samples},
                       {"coverage", f.coverage},
                       {"mode", f.mode}});
+    if (!f.views.empty()) frames.back()["views"] = f.views;
   }
   return {{"format", "frameless-capture-1"}, {"settings", m.settings}, {"frames", frames}};
 }
@@ -67,6 +68,7 @@ Result<Manifest> manifest_from_json(const nlohmann::json& j, const std::string& 
       f.samples = fj.at("samples").get<uint64_t>();
       f.coverage = fj.at("coverage").get<double>();
       f.mode = fj.at("mode").get<std::string>();
+      if (fj.contains("views")) f.views = fj.at("views").get<std::map<std::string, std::string>>();
       m.frames.push_back(f);
     }
   } catch (const nlohmann::json::exception& e) {

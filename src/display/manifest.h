@@ -2,6 +2,7 @@
 // by the capture thread, read by tests and tools.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@ struct ManifestFrame {
   uint64_t samples = 0;          // samples rendered since the previous captured frame
   double coverage = 0;           // fraction of pixels whose newest sample used the newest camera
   std::string mode;              // "frameless" or "conventional"
+  std::map<std::string, std::string> views;  // false-colour view name -> its PNG (capture --view)
 };
 
 struct Manifest {

@@ -69,6 +69,7 @@ void rebuild_layout(Engine::Impl& e, const EngineConfig& config) {
   for (size_t s = 0; s < n; ++s) slot_of[slot_pixel[s]] = uint32_t(s);
   if (resized) {
     e.states.reset(new PixelState[n]);
+    e.levels.reset(new std::atomic<uint8_t>[n]());  // by pixel: a new slot order keeps it
     ++e.cleared;
   } else if (slot_of != e.slot_of) {
     std::unique_ptr<PixelState[]> states(new PixelState[n]);
@@ -319,6 +320,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.width = e.cfg.width;
   r.height = e.cfg.height;
   r.slot_pixel = e.display_order;
+  r.levels = e.levels.get();
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
   const int threads = e.threads;  // counters always have this many entries (see rebuild_layout)
@@ -418,7 +420,16 @@ bool Engine::read_pixel(int x, int y, PixelSnapshot& out) const {
   const Impl& e = *impl_;
   if (x < 0 || y < 0 || x >= e.cfg.width || y >= e.cfg.height) return false;
   const size_t pixel = size_t(y) * size_t(e.cfg.width) + size_t(x);
-  return frameless::read_pixel(e.states[e.slot_of[pixel]], out);
+  if (!frameless::read_pixel(e.states[e.slot_of[pixel]], out)) return false;
+  out.levels = e.levels[pixel].load(std::memory_order_relaxed);
+  return true;
+}
+
+void Engine::copy_levels(std::vector<uint8_t>& out) const {
+  Impl& e = *impl_;
+  std::lock_guard<std::mutex> lock(e.layout_mutex);  // a resize replaces the array
+  out.resize(e.pixel_count);
+  for (size_t i = 0; i < e.pixel_count; ++i) out[i] = e.levels[i].load(std::memory_order_relaxed);
 }
 
 }  // namespace frameless

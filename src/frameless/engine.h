@@ -2,6 +2,7 @@
 // methods run on one control thread; collect() on the display thread; render threads
 // are internal. The destructor stops and joins every thread (RAII).
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -57,6 +58,9 @@ struct CollectResult {
   // Frameless: the pixel (y * width + x) each slot holds, in slot order; null in conventional
   // mode, where frames come in pixel order. Shared and immutable: compare pointers to spot a change.
   std::shared_ptr<const std::vector<uint32_t>> slot_pixel;
+  // Deepest reflection/refraction level of each pixel's newest update, by pixel (y * width + x),
+  // written by the render threads after the state (relaxed): valid until collect() returns.
+  const std::atomic<uint8_t>* levels = nullptr;
   uint32_t newest_epoch = 0; // newest published camera epoch
   uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
   uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()
@@ -139,8 +143,11 @@ class Engine {
   // Update log of render thread `thread` (config.update_log_capacity > 0). Read only while the
   // threads are stopped or between advance() calls in deterministic mode.
   const UpdateLog& update_log(int thread) const;
-  // Consistent copy of pixel (x, y)'s state (tests, stats); any thread.
+  // Consistent copy of pixel (x, y)'s state (tests, stats), with its levels; any thread.
   bool read_pixel(int x, int y, PixelSnapshot& out) const;
+  // The deepest reflection/refraction level of every pixel's newest update (0: the camera ray
+  // alone; saturates at 255), by pixel y * width + x; any thread.
+  void copy_levels(std::vector<uint8_t>& out) const;
 
   struct Impl;
 

@@ -63,6 +63,9 @@ struct EngineConfig {
   // average after that), and a sample more than 3 sigma from the mean restarts it, so moved
   // content is blended in instead of averaged forever (docs/engine.md). 2..65536.
   int motion_history = 8;
+  // Trace the camera rays of consecutive owned pixels as coherent packets (core/accel.h): same
+  // images bit for bit, faster. Off: ray by ray (for comparison; custom shaders always are).
+  bool packets = true;
 };
 
 // Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.

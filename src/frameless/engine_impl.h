@@ -89,6 +89,9 @@ struct Engine::Impl {
   // walk memory sequentially instead of jumping between scattered chunks. Pixel p lives in
   // states[slot_of[p]].
   std::unique_ptr<PixelState[]> states;
+  // Deepest reflection/refraction level of each pixel's newest update, by pixel (y * width + x),
+  // beside the states because PixelState fills its cache line; frameless/pixel_levels.h.
+  std::unique_ptr<std::atomic<uint8_t>[]> levels;
   std::vector<uint32_t> slot_of;
   std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
   // Frameless: the pixel each slot holds, shared with the display (immutable once built); null

@@ -55,6 +55,9 @@ struct PixelSnapshot {
   uint32_t epoch = 0;    // camera epoch of the newest sample (0: never sampled)
   float time = 0.0f;     // engine seconds of the newest update
   uint32_t seq = 0;      // the sequence number it was read at (even); changes with every publish
+  // Deepest reflection/refraction level of the newest update: conventional frames and
+  // Engine::read_pixel carry it (it lives beside the state, frameless/pixel_levels.h).
+  uint8_t levels = 0;
 };
 
 // Display side: reads `p` without tearing. Retries while the owner writes; returns false (and

@@ -1,11 +1,13 @@
 // Render threads: the per-pixel update (frameless antialiasing, Welford statistics, seqlocked
 // publish), the frameless walking loop and the conventional job loop. The per-sample path holds
 // no lock, allocates nothing and makes no system call.
+#include <algorithm>
 #include <cmath>
 
 #include "core/rng.h"
 #include "frameless/adaptive.h"
 #include "frameless/engine_impl.h"
+#include "frameless/pixel_levels.h"
 #include "frameless/running_stats.h"
 #include "frameless/tile_render.h"
 
@@ -32,20 +34,17 @@ inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px,
 constexpr double kMotionSigmas = 3.0;
 constexpr double kMotionFloor = 0.02;
 
-// One pixel update of pixel `idx`, whose state is `p`: 1 or 2 samples, Welford per sample,
-// publish under the pixel's sequence lock.
-// `frame` (conventional) also receives the published snapshot. `world` (null when nothing
-// moves) is what the samples see of dynamic objects, lights and materials.
-template <bool kCustom>
-inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const CameraBasis& basis,
-                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame,
-                         const DynamicFrame* world) {
+// Where and with which random stream the samples of one pixel update look: 1 or 2 samples
+// (frameless antialiasing), fixed by the pixel's update count.
+struct UpdateSamples {
+  float px[2], py[2];
+  uint64_t seed[2];
+};
+
+inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes, UpdateSamples& u) {
   const uint32_t w = uint32_t(e.partition.width);
   const uint32_t x = idx % w, y = idx / w;
-  const uint32_t passes = p.passes.load(std::memory_order_relaxed);
   const int spu = e.cfg.jitter ? 2 : 1;
-  Vec3 colors[2];
-  int valid = 0;
   for (int j = 0; j < spu; ++j) {
     const uint64_t seed = sample_seed(x, y, passes * uint32_t(spu) + uint32_t(j), e.sample_seed_base);
     float px = float(x) + 0.5f, py = float(y) + 0.5f;
@@ -55,10 +54,28 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
       px = float(x) + 0.5f * (float(s & 1) + rng.next_float());
       py = float(y) + 0.5f * (float(s >> 1) + rng.next_float());
     }
-    const SampleResult r = shade<kCustom>(e, basis, px, py, mix64(seed ^ kSeedSalt), world);
-    if (r.valid && is_finite(r.color))
-      colors[valid++] = r.color;
+    u.px[j] = px, u.py[j] = py;
+    u.seed[j] = mix64(seed ^ kSeedSalt);
   }
+}
+
+// The statistics and the publish of one pixel update of pixel `idx`, whose state is `p`, from
+// its traced samples r[0..spu): Welford per sample, publish under the pixel's sequence lock.
+// `frame` (conventional) also receives the published snapshot. `world` (null when nothing
+// moves) is what the samples saw of dynamic objects, lights and materials.
+inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t epoch,
+                          float time, ThreadCounters& ctr, PixelSnapshot* frame,
+                          const DynamicFrame* world, const SampleResult* r) {
+  const uint32_t passes = p.passes.load(std::memory_order_relaxed);
+  const int spu = e.cfg.jitter ? 2 : 1;
+  Vec3 colors[2];
+  int valid = 0;
+  uint8_t levels = 0;  // the reflection depth view's value: the deepest valid sample
+  for (int j = 0; j < spu; ++j)
+    if (r[j].valid && is_finite(r[j].color)) {
+      colors[valid++] = r[j].color;
+      levels = std::max(levels, r[j].levels);
+    }
   ctr.samples.store(ctr.samples.load(std::memory_order_relaxed) + uint64_t(spu),
                     std::memory_order_relaxed);
   p.passes.store(passes + 1, std::memory_order_relaxed);
@@ -121,6 +138,7 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
   }
   p.m2.store(m2, std::memory_order_relaxed);
   p.time.store(time, std::memory_order_relaxed);
+  store_levels(e, idx, levels, frame);
   p.seq.store(seq + 2, std::memory_order_release);
 
   if (frame) {
@@ -132,6 +150,62 @@ inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const Cam
     frame->time = time;
     frame->seq = seq + 2;
   }
+}
+
+// One pixel update traced ray by ray (custom shaders, and with packets off).
+template <bool kCustom>
+inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const CameraBasis& basis,
+                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame,
+                         const DynamicFrame* world) {
+  UpdateSamples u;
+  prepare_samples(e, idx, p.passes.load(std::memory_order_relaxed), u);
+  SampleResult r[2];
+  for (int j = 0; j < (e.cfg.jitter ? 2 : 1); ++j)
+    r[j] = shade<kCustom>(e, basis, u.px[j], u.py[j], u.seed[j], world);
+  finish_update(e, idx, p, epoch, time, ctr, frame, world, r);
+}
+
+// Up to kPacketSize pixel updates traced together: their camera rays go through the static
+// scene as coherent packets (Accel::intersect_packet), then each sample is shaded on its own
+// with its exact single-ray hit, so the images equal update_pixel's bit for bit.
+struct PacketBatch {
+  static constexpr int kMax = kPacketSize;  // pixel updates per batch (two packets with jitter)
+  int n = 0;
+  uint32_t idx[kMax];
+  PixelState* state[kMax];
+  double t[kMax];
+  PixelSnapshot* frame[kMax];
+  SampleResult r[kMax][2];
+};
+
+// Traces the batch's samples; `world` (if any) is advanced to each update's own instant.
+void trace_batch(Engine::Impl& e, PacketBatch& b, const CameraBasis& basis, DynamicFrame* world,
+                 const WorldState* world_state) {
+  const int spu = e.cfg.jitter ? 2 : 1;
+  UpdateSamples u[PacketBatch::kMax];
+  float px[2 * PacketBatch::kMax], py[2 * PacketBatch::kMax];
+  Hit hits[2 * PacketBatch::kMax];
+  for (int k = 0; k < b.n; ++k) {
+    prepare_samples(e, b.idx[k], b.state[k]->passes.load(std::memory_order_relaxed), u[k]);
+    for (int j = 0; j < spu; ++j) px[k * spu + j] = u[k].px[j], py[k * spu + j] = u[k].py[j];
+  }
+  primary_hits(e.scene, basis, b.n * spu, px, py, hits);
+  for (int k = 0; k < b.n; ++k) {
+    if (world && world_state && world->time != b.t[k])
+      advance_frame(e.scene, *world_state, b.t[k], *world);
+    for (int j = 0; j < spu; ++j)
+      b.r[k][j] = trace_sample(e.scene, basis, u[k].px[j], u[k].py[j], u[k].seed[j], world,
+                               &hits[k * spu + j]);
+  }
+}
+
+// Records a pixel update in the thread's update log (statistics runs; off: no log).
+inline void log_update(const Engine::Impl& e, FramelessWorker& w, uint32_t idx, float time) {
+  if (!w.log) return;
+  if (w.log->records.size() < w.log->records.capacity())
+    w.log->records.push_back({idx, w.epoch, e.display_tick.load(std::memory_order_relaxed), time});
+  else
+    ++w.log->overflow;
 }
 
 // Picks up the newest world state (dynamic objects, lights, materials) if it changed.
@@ -183,27 +257,85 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
     if (w.moving && w.frame.time != t) advance_frame(e.scene, w.world, t, w.frame);
     update_pixel<kCustom>(e, idx, p, w.basis, w.epoch, time, ctr, nullptr,
                           w.moving ? &w.frame : nullptr);
-    if (w.log) {
-      if (w.log->records.size() < w.log->records.capacity())
-        w.log->records.push_back({idx, w.epoch, e.display_tick.load(std::memory_order_relaxed), time});
-      else
-        ++w.log->overflow;
-    }
+    log_update(e, w, idx, time);
     // The display derives which pixels changed from this counter: publish after the pixel.
     ctr.updates.store(++w.updates, std::memory_order_release);
     ++i;
   }
 }
 
+// run_visits with the camera rays of up to PacketBatch::kMax consecutive visits traced as
+// packets. Visits are gathered in order, traced, then published in order, adaptive skips
+// included, so every counter and pixel sees the same sequence as the one-by-one loop. A batch
+// ends before a camera or world pick-up and at the end of the list (no pixel twice).
+template <bool kAdaptive>
+void run_visits_packets(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin,
+                        double dt) {
+  const std::vector<uint32_t>& list = *w.pixels;
+  const size_t n = list.size();
+  if (n == 0) return;
+  ThreadCounters& ctr = e.counters[w.index];
+  PacketBatch b;
+  constexpr int kMaxEntries = 64;
+  int8_t entries[kMaxEntries];  // visit order: a batch slot, or -1 for an adaptive skip
+  int m = 0;
+  auto flush = [&] {
+    if (b.n > 0) trace_batch(e, b, w.basis, w.moving ? &w.frame : nullptr, &w.world);
+    for (int k = 0; k < m; ++k) {
+      const int slot = entries[k];
+      if (slot >= 0) {
+        finish_update(e, b.idx[slot], *b.state[slot], w.epoch, float(b.t[slot]), ctr, nullptr,
+                      w.moving ? &w.frame : nullptr, b.r[slot]);
+        log_update(e, w, b.idx[slot], float(b.t[slot]));
+      }
+      // The display derives which pixels changed from this counter: publish after the pixel.
+      ctr.updates.store(++w.updates, std::memory_order_release);
+    }
+    b.n = 0;
+    m = 0;
+  };
+  for (uint64_t i = 0; i < count;) {  // i counts rendered updates (adaptive skips do not count)
+    if (w.countdown == 1) flush();  // the pick-up below must follow every gathered visit
+    if (--w.countdown == 0) {
+      w.countdown = w.interval;
+      refresh_camera(e, w.epoch, w.basis);
+      refresh_world(e, w, t_begin + dt * double(i));
+    }
+    const size_t pos = w.pos;
+    const uint32_t idx = list[pos];
+    PixelState& p = e.states[w.first_slot + pos];
+    const bool wrapped = ++w.pos == n;
+    if (wrapped) w.pos = 0;
+    bool skip = false;
+    if constexpr (kAdaptive) skip = adaptive_skip(e.cfg.adaptive, p, w.epoch, w.adaptive.skip_run[pos]);
+    if (skip) {
+      entries[m++] = -1;
+    } else {
+      b.idx[b.n] = idx;
+      b.state[b.n] = &p;
+      b.t[b.n] = t_begin + dt * double(i);
+      entries[m++] = int8_t(b.n++);
+      ++i;
+    }
+    if (wrapped || b.n == PacketBatch::kMax || m == kMaxEntries) flush();
+  }
+  flush();
+}
+
 }  // namespace
 
 void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
+  const bool packets = e.cfg.packets && !e.cfg.shader.fn;
   if (e.cfg.adaptive.enabled) {
     if (w.adaptive.skip_run.size() != w.pixels->size()) w.adaptive.skip_run.assign(w.pixels->size(), 0);
-    if (e.cfg.shader.fn)
+    if (packets)
+      run_visits_packets<true>(e, w, count, t_begin, dt);
+    else if (e.cfg.shader.fn)
       run_visits<true, true>(e, w, count, t_begin, dt);
     else
       run_visits<false, true>(e, w, count, t_begin, dt);
+  } else if (packets) {
+    run_visits_packets<false>(e, w, count, t_begin, dt);
   } else if (e.cfg.shader.fn) {
     run_visits<true, false>(e, w, count, t_begin, dt);
   } else {
@@ -243,6 +375,24 @@ void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double
     w.frame_serial = e.frame_serial;
   }
   const DynamicFrame* world = w.moving ? &w.frame : nullptr;
+  if (e.cfg.packets && !e.cfg.shader.fn) {
+    // Consecutive pixels of a tile row as packets; the frame's world stays at one instant.
+    PacketBatch b;
+    for (size_t i = begin; i < end;) {
+      for (b.n = 0; b.n < PacketBatch::kMax && i < end; ++b.n, ++i) {
+        b.idx[b.n] = e.job_pixels[i];
+        b.state[b.n] = &e.states[i];
+        b.t[b.n] = t_begin + dt * double(i - begin);
+        b.frame[b.n] = &frame[e.job_pixels[i]];
+      }
+      trace_batch(e, b, e.frame_basis, w.moving ? &w.frame : nullptr, nullptr);
+      for (int k = 0; k < b.n; ++k)
+        finish_update(e, b.idx[k], *b.state[k], e.frame_epoch, float(b.t[k]), ctr, b.frame[k], world, b.r[k]);
+    }
+    ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
+                      std::memory_order_release);
+    return;
+  }
   for (size_t i = begin; i < end; ++i) {  // in conventional mode slot i holds job_pixels[i]
     const uint32_t idx = e.job_pixels[i];
     const float time = float(t_begin + dt * double(i - begin));

@@ -28,6 +28,7 @@ void render_tile(const Scene& scene, const CameraBasis& camera, const TileRender
       const size_t i = size_t(y) * img.width + x;
       Vec3 sum(0.0f);
       int n = 0;
+      uint8_t levels = 0;
       for (int s = 0; s < o.spp; ++s) {
         const SampleResult r = render_sample(scene, camera, x, y, o.first_sample + s, o.jitter, frame);
         if (!r.valid) {
@@ -40,11 +41,13 @@ void render_tile(const Scene& scene, const CameraBasis& camera, const TileRender
                      img.normal[3 * i + 2] = r.normal.z;
         }
         sum += r.color;
+        levels = std::max(levels, r.levels);
         ++n;
       }
       const Vec3 mean = n ? sum / float(n) : Vec3(0.0f);
       img.rgb[3 * i] = mean.x, img.rgb[3 * i + 1] = mean.y, img.rgb[3 * i + 2] = mean.z;
       img.samples[i] = float(n);
+      img.levels[i] = levels;
     }
 }
 
@@ -68,6 +71,7 @@ RenderedImage render_tiles(const Scene& scene, const CameraBasis& camera,
   img.depth.assign(n, kInfinity);
   img.normal.assign(3 * n, 0.0f);
   img.samples.assign(n, 0.0f);
+  img.levels.assign(n, 0);
 
   const int tiles_x = (img.width + kTile - 1) / kTile, tiles_y = (img.height + kTile - 1) / kTile;
   const int tiles = tiles_x * tiles_y;
@@ -94,7 +98,10 @@ RenderedImage render_tiles(const Scene& scene, const CameraBasis& camera,
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   } else {
+    // The caller works too: its own floating-point mode is restored afterwards.
+    const unsigned int csr = _mm_getcsr();
     worker();
+    _mm_setcsr(csr);
   }
   for (auto& t : pool) t.join();
   if (o.progress) o.progress(1.0);

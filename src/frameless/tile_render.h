@@ -28,6 +28,7 @@ struct RenderedImage {
   std::vector<float> depth;    // distance from the eye along the first sample's primary ray
   std::vector<float> normal;   // 3 floats per pixel: first sample's shading normal
   std::vector<float> samples;  // valid samples averaged per pixel
+  std::vector<uint8_t> levels; // deepest reflection/refraction level over the valid samples
   uint64_t dropped = 0;        // samples dropped for NaN/Inf
   double seconds = 0.0;        // wall time of the render
 };

@@ -18,13 +18,7 @@
 #include "core/accel.h"
 #include "core/intersect_sphere.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define FRAMELESS_SLOW_BUILD 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define FRAMELESS_SLOW_BUILD 1
-#endif
-#endif
+#include "slow_build.h"
 
 namespace frameless {
 namespace {

@@ -155,7 +155,11 @@ TEST(StabilityStress, ExponentialBlendErrorStaysBounded) {
 int subnormal_steps(bool ftz) {
   int subnormal = 0;
   std::thread t([&] {
-    if (ftz) enable_flush_to_zero();
+    // A new thread inherits its creator's mode: set both ways, whatever ran before.
+    if (ftz)
+      enable_flush_to_zero();
+    else
+      _mm_setcsr(_mm_getcsr() & ~0x8040u);  // FTZ (bit 15) and DAZ (bit 6) off
     float shown = 1.0f;
     for (int i = 0; i < 4000; ++i) {
       shown = blend(Vec3(shown), Vec3(0.0f), 0.05f).x;

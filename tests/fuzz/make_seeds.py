@@ -9,8 +9,9 @@ they were made once with libjpeg-turbo (8x8 RGB, quality 50, baseline, optimized
 OpenEXR's RgbaOutputFile (4x4 half RGBA, ZIP and no compression), and are kept as they are, with
 their magic bytes dropped as described in scene_fuzzer.cpp. The spline-patch seed (patches_two:
 selector 8, then tests/data/patches/two_patches.inc) and the sphere-file seeds (spheres_plain,
-spheres_scalar: selector 9, then a 32-byte FLSPHERE header and 16- or 20-byte records) were
-written once by hand from those formats.
+spheres_scalar: selector 9, then a 32-byte FLSPHERE header and 16- or 20-byte records) and the
+instancing scene (scene_instances: selector 0, a JSON scene with "meshes" and "instance" objects)
+were written once by hand from those formats.
 """
 import base64
 import json
