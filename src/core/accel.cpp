@@ -262,6 +262,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
 }  // namespace
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
   bool found;
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);

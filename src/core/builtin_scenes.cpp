@@ -214,7 +214,7 @@ const char* builtin_scene_help() {
          "  room               figure 16: ~75,000 polygons, spline teapot, glass, textures\n"
          "  sunflowers[:N]     OpenRT's sunflower field: 10 plant kinds instanced N times (default\n"
          "                     46000: about a billion triangles), cut-out leaves, a low sun\n"
-         "  sunflowers-flat:N  the same N plants as one plain mesh (~21,000 triangles each)\n"
+         "  sunflowers-flat:N  the same N plants as one plain mesh (~21,000 triangles each on average)\n"
          "  spheres:N[:SEED]   N random spheres, 1 <= N <= 35000000, seeded (default seed 1)\n"
          "  bunny              the Stanford bunny from Debian's glmark2-data\n"
          "Or a scene file (.json) or a mesh file (.obj, .ply).";
