@@ -1,13 +1,16 @@
-// Embree 3 reference for `frameless bench rays`: the same scene and rays through rtcIntersect1 /
-// rtcOccluded1 and 8-wide packets; built on the main thread, queried from bench threads.
+// Embree 3 reference for `frameless bench rays` and `bench build`: the same scene and rays through
+// rtcIntersect1 / rtcOccluded1 and 8-wide packets, and its build time with 1 or N build threads;
+// built on the main thread, queried from bench threads.
 #pragma once
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <time.h>
 
 #include "core/scene.h"
 
@@ -33,35 +36,12 @@ class EmbreeBench {
     }
     rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
     const auto start = std::chrono::steady_clock::now();
-    scene_ = rtcNewScene(device_);
-    const Geometry& g = s.geometry;
-    RTCGeometry tri = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.positions.size()));
-    for (size_t i = 0; i < g.positions.size(); ++i)
-      for (int k = 0; k < 3; ++k) v[3 * i + k] = g.positions[i][k];
-    unsigned* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        tri, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), g.triangles.size()));
-    for (size_t i = 0; i < g.triangles.size(); ++i)
-      for (int k = 0; k < 3; ++k) idx[3 * i + k] = g.triangles[i][k];
-    rtcCommitGeometry(tri);
-    rtcAttachGeometryByID(scene_, tri, 0);
-    rtcReleaseGeometry(tri);
-    if (!g.spheres.empty()) {
-      RTCGeometry sph = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      float* p = static_cast<float*>(rtcSetNewGeometryBuffer(
-          sph, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), g.spheres.size()));
-      for (size_t i = 0; i < g.spheres.size(); ++i) {
-        for (int k = 0; k < 3; ++k) p[4 * i + k] = g.spheres[i].center[k];
-        p[4 * i + 3] = g.spheres[i].radius;
-      }
-      rtcCommitGeometry(sph);
-      rtcAttachGeometryByID(scene_, sph, 1);
-      rtcReleaseGeometry(sph);
-    }
+    scene_ = new_scene(device_, s.geometry);
+    const auto commit = std::chrono::steady_clock::now();
     rtcCommitScene(scene_);
-    build_ms_ =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const auto end = std::chrono::steady_clock::now();
+    build_ms_ = std::chrono::duration<double, std::milli>(end - commit).count();
+    setup_ms_ = std::chrono::duration<double, std::milli>(commit - start).count();
   }
   ~EmbreeBench() {
     rtcReleaseScene(scene_);
@@ -138,7 +118,58 @@ class EmbreeBench {
   uint32_t prim_id(const EmbreeHit& h) const {
     return h.geom == 0 ? h.prim : num_triangles_ + h.prim;
   }
+  // rtcCommitScene alone (the BVH build, Embree's default medium quality); setup_ms: filling
+  // Embree's vertex, index and sphere buffers before it (a copy our build does not make).
   double build_ms() const { return build_ms_; }
+  double setup_ms() const { return setup_ms_; }
+
+  // Best of `reps` builds (rtcCommitScene of a fresh scene each time) on a device with `threads`
+  // build threads (1: Embree builds on the calling thread alone), in ms.
+  static double build_ms_with_threads(const Scene& s, int threads, int reps) {
+    BuildTimer timer(threads);
+    double best = 1e30;
+    for (int r = 0; r < reps; ++r) best = std::min(best, timer.build_ms(s.geometry));
+    return best;
+  }
+
+  // CPU time of the process (all its threads), in ms.
+  static double process_cpu_ms() {
+    timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+  }
+
+  // One device kept for repeated timed builds, so a caller can interleave them with its own.
+  class BuildTimer {
+   public:
+    explicit BuildTimer(int threads) {
+      const std::string config = "threads=" + std::to_string(threads);
+      device_ = rtcNewDevice(config.c_str());
+      if (!device_) {
+        std::fprintf(stderr, "frameless: embree: rtcNewDevice failed\n");
+        std::exit(1);
+      }
+    }
+    ~BuildTimer() { rtcReleaseDevice(device_); }
+    BuildTimer(const BuildTimer&) = delete;
+    BuildTimer& operator=(const BuildTimer&) = delete;
+    // Milliseconds of rtcCommitScene over a fresh scene of g (buffers filled before the clock);
+    // cpu_ms, when given, gets the CPU time the whole process spent meanwhile.
+    double build_ms(const Geometry& g, double* cpu_ms = nullptr) {
+      RTCScene scene = new_scene(device_, g);
+      const double cpu_start = process_cpu_ms();
+      const auto start = std::chrono::steady_clock::now();
+      rtcCommitScene(scene);
+      const double ms = std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - start).count();
+      if (cpu_ms) *cpu_ms = process_cpu_ms() - cpu_start;
+      rtcReleaseScene(scene);
+      return ms;
+    }
+
+   private:
+    RTCDevice device_ = nullptr;
+  };
   size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }
   std::string version() const {
     return std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
@@ -147,6 +178,35 @@ class EmbreeBench {
   }
 
  private:
+  // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed.
+  static RTCScene new_scene(RTCDevice device, const Geometry& g) {
+    RTCScene scene = rtcNewScene(device);
+    RTCGeometry tri = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.positions.size()));
+    for (size_t i = 0; i < g.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) v[3 * i + k] = g.positions[i][k];
+    unsigned* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        tri, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), g.triangles.size()));
+    for (size_t i = 0; i < g.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) idx[3 * i + k] = g.triangles[i][k];
+    rtcCommitGeometry(tri);
+    rtcAttachGeometryByID(scene, tri, 0);
+    rtcReleaseGeometry(tri);
+    if (!g.spheres.empty()) {
+      RTCGeometry sph = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      float* p = static_cast<float*>(rtcSetNewGeometryBuffer(
+          sph, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), g.spheres.size()));
+      for (size_t i = 0; i < g.spheres.size(); ++i) {
+        for (int k = 0; k < 3; ++k) p[4 * i + k] = g.spheres[i].center[k];
+        p[4 * i + 3] = g.spheres[i].radius;
+      }
+      rtcCommitGeometry(sph);
+      rtcAttachGeometryByID(scene, sph, 1);
+      rtcReleaseGeometry(sph);
+    }
+    return scene;
+  }
   static bool monitor(void* self, ssize_t bytes, bool) {
     static_cast<EmbreeBench*>(self)->bytes_ += bytes;
     return true;
@@ -162,6 +222,7 @@ class EmbreeBench {
   RTCScene scene_ = nullptr;
   uint32_t num_triangles_ = 0;
   double build_ms_ = 0.0;
+  double setup_ms_ = 0.0;
   std::atomic<long long> bytes_{0};
 };
 

@@ -25,16 +25,6 @@ struct StackEntry {
   float t;
 };
 
-template <class T>
-void permute(std::vector<T>& v, const std::vector<PrimRef>& refs, uint32_t base, uint32_t count) {
-  if (v.size() != count) return;  // absent optional array (or malformed): leave alone
-  std::vector<T> out;
-  out.reserve(count);
-  for (const PrimRef& p : refs)
-    if (p.id >= base && p.id - base < count) out.push_back(v[p.id - base]);
-  v.swap(out);
-}
-
 }  // namespace
 
 Accel::Accel() : impl_(std::make_unique<Impl>()) {}
@@ -52,44 +42,12 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     // Sphere-only geometry: built in place (a sphere is its own bounds), no reference array.
     bvh = build_bvh8_spheres(geom.spheres, geom.sphere_material, config);
   } else {
-    const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres(), np = geom.num_patches();
-    std::vector<PrimRef> refs(size_t(nt) + ns + np);
-    for (uint32_t i = 0; i < nt; ++i) {
-      const UVec3 t = geom.triangles[i];
-      PrimRef& r = refs[i];
-      r.id = i;
-      if (t.x < geom.positions.size() && t.y < geom.positions.size() && t.z < geom.positions.size()) {
-        const Vec3 &a = geom.positions[t.x], &b = geom.positions[t.y], &c = geom.positions[t.z];
-        r.lo = glm::min(a, glm::min(b, c));
-        r.hi = glm::max(a, glm::max(b, c));
-      }
-      // Non-finite or out-of-range triangles keep a point box at the origin; their test misses.
-      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-    }
-    for (uint32_t i = 0; i < ns; ++i) {
-      const Sphere& s = geom.spheres[i];
-      PrimRef& r = refs[nt + i];
-      r.id = nt + i;
-      r.lo = s.center - Vec3(std::abs(s.radius));
-      r.hi = s.center + Vec3(std::abs(s.radius));
-      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-    }
-    for (uint32_t i = 0; i < np; ++i) {
-      PrimRef& r = refs[size_t(nt) + ns + i];
-      r.id = nt + ns + i;
-      r.lo = geom.patches[i].lo();
-      r.hi = geom.patches[i].hi();
-      if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-    }
-    bvh = build_bvh8(refs, nt, config, nt + ns);
-    // Store primitives in leaf order so a leaf is a contiguous run (no index indirection).
-    permute(geom.triangles, refs, 0, nt);
-    permute(geom.triangle_material, refs, 0, nt);
-    permute(geom.triangle_opposite, refs, 0, nt);
-    permute(geom.spheres, refs, nt, ns);
-    permute(geom.sphere_material, refs, nt, ns);
-    permute(geom.patches, refs, nt + ns, np);
-    permute(geom.patch_material, refs, nt + ns, np);
+    // References and the leaf-order permutation in parallel chunks, bit for bit the serial
+    // result (bvh_build.h); primitives are stored in leaf order, so a leaf is a contiguous run.
+    const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres();
+    PrimRefArray refs = make_prim_refs(geom, config);
+    bvh = build_bvh8(refs.data(), refs.size(), nt, config, nt + ns);
+    permute_geometry(geom, refs.data(), refs.size(), config);
   }
   if (bvh.depth * (kBvhWidth - 1) + 1 > kStackSize) {
     std::fprintf(stderr, "frameless: accel: BVH depth %d exceeds the traversal stack\n", bvh.depth);

@@ -1,10 +1,9 @@
-// In-place binned-SAH builder of the 8-wide BVH over spheres (bvh_build_spheres.h). The split
-// rules follow bvh_build.cpp; what differs is memory: no PrimRef array (bounds are recomputed
-// from the sphere), the sphere and material arrays are partitioned together in place, each
-// range carries the bounds of its centres (gathered while partitioning, so no extra pass), and
-// nodes go to 4 MiB blocks, mapped on demand and freed as the final array is assembled.
+// In-place binned-SAH builder of the 8-wide BVH over spheres (bvh_build_spheres.h). The splits
+// are build_bvh8's (bvh_build_split.h); what differs is memory: no PrimRef array (bounds are
+// recomputed from the sphere), the sphere and material arrays are partitioned together in place,
+// and nodes go to 4 MiB blocks, mapped on demand and freed as the final array is assembled.
 // This file: the node blocks, the top of the tree and its subtree tasks, and the assembly; the
-// splits are in bvh_build_spheres_split.cpp and bvh_build_spheres_order.cpp.
+// sphere array as the splitter sees it is in bvh_build_spheres_internal.h.
 #include "core/bvh_build_spheres.h"
 
 #include <algorithm>
@@ -95,12 +94,38 @@ namespace {
 constexpr uint32_t kParallelMin = 65536;
 constexpr uint32_t kMinTask = 16384;
 
-void set_child_box(Bvh8Node& node, int i, const Box& b) {
-  for (int a = 0; a < 3; ++a) {
-    node.bounds[2 * a][i] = b.lo[a];
-    node.bounds[2 * a + 1][i] = b.hi[a];
+// Builds subtrees into node arenas.
+template <class Prims>
+class Builder {
+ public:
+  Builder(const Prims& p, const SplitSettings& s) : split_(p, s, nullptr) {}
+
+  // Builds the subtree of r (not a leaf) into arena; returns its node index there.
+  uint32_t build(NodeArena& arena, const Range& r, int level) {
+    const uint32_t index = arena.add();
+    depth = std::max(depth, level);
+    Range ch[kBvhWidth];
+    const int n = split_.collect_children(r, level, ch);
+    for (int i = 0; i < n; ++i) {
+      set_child_box(arena.at(index), i, ch[i].box);
+      if (ch[i].leaf_ok) {
+        arena.at(index).child[i] = ch[i].begin;
+        arena.at(index).info[i] = uint8_t(ch[i].count() | kSphereLeafBit);
+        ++leaves;
+      } else {
+        const uint32_t c = build(arena, ch[i], level + 1);
+        arena.at(index).child[i] = c;
+      }
+    }
+    return index;
   }
-}
+
+  int depth = 0;
+  size_t leaves = 0;
+
+ private:
+  Splitter<Prims> split_;
+};
 
 // A subtree below the top of the tree, built into its own arena.
 struct Task {
@@ -117,10 +142,10 @@ struct Task {
 // of one node (the root) splits with chunked parallel binning; a wave of several splits its
 // nodes in parallel. Inner children of at most max_task spheres become tasks. Node order (breadth
 // first, slots in order) does not depend on the executor.
+template <class Prims>
 struct Top {
-  const AccelConfig& config;
-  Sphere* s;
-  uint16_t* m;
+  const Prims& prims;
+  const SplitSettings& settings;
   const ParallelFor* pf;
   uint32_t max_task;
   std::vector<Bvh8Node> nodes;
@@ -137,13 +162,12 @@ struct Top {
   };
 
   void build(const Range& root) {
-    const uint32_t max_leaf = uint32_t(std::clamp(config.max_leaf_size, 1, kMaxLeafSize));
     std::vector<Item> wave(1);
     wave[0].r = root;
     for (int level = 1; !wave.empty(); ++level) {
       auto split_one = [&](size_t k, const ParallelFor* p) {
-        Builder b(s, m, config, p);
-        wave[k].n = b.collect_children(wave[k].r, level, wave[k].ch);
+        Splitter<Prims> split(prims, settings, p);
+        wave[k].n = split.collect_children(wave[k].r, level, wave[k].ch);
       };
       if (wave.size() == 1 || !pf) {
         for (size_t k = 0; k < wave.size(); ++k) split_one(k, pf);
@@ -160,7 +184,7 @@ struct Top {
         for (int i = 0; i < it.n; ++i) {
           const Range& c = it.ch[i];
           set_child_box(nodes[index], i, c.box);
-          if (c.count() <= max_leaf) {
+          if (c.leaf_ok) {
             nodes[index].child[i] = c.begin;
             nodes[index].info[i] = uint8_t(c.count() | kSphereLeafBit);
             ++leaves;
@@ -184,46 +208,19 @@ struct Top {
   }
 };
 
-}  // namespace
-
-uint32_t Builder::build(NodeArena& arena, const Range& r, int level) {
-  const uint32_t index = uint32_t(arena.add());
-  depth = std::max(depth, level);
-  Range ch[kBvhWidth];
-  const int n = collect_children(r, level, ch);
-  for (int i = 0; i < n; ++i) {
-    set_child_box(arena.at(index), i, ch[i].box);
-    if (leaf_ok(ch[i])) {
-      arena.at(index).child[i] = ch[i].begin;
-      arena.at(index).info[i] = uint8_t(ch[i].count() | kSphereLeafBit);
-      ++leaves;
-    } else {
-      const uint32_t c = build(arena, ch[i], level + 1);
-      arena.at(index).child[i] = c;
-    }
-  }
-  return index;
-}
-
-}  // namespace sphere_bvh
-
-Bvh8 build_bvh8_spheres(std::vector<Sphere>& spheres, std::vector<uint16_t>& materials,
-                        const AccelConfig& config) {
-  using namespace sphere_bvh;
+template <class Prims>
+Bvh8 build(const Prims& prims, uint32_t n, const AccelConfig& config) {
   Bvh8 out;
-  if (spheres.empty()) return out;
-  const uint32_t n = uint32_t(spheres.size());
-  // A material array of another size is malformed: leave it alone (as Accel::build does).
-  uint16_t* mats = materials.size() == spheres.size() ? materials.data() : nullptr;
   // The split into top and tasks depends on n only, so the layout is the same with or without
   // an executor (and whatever order it runs things in).
   const bool big = n > kParallelMin;
   const bool parallel = bool(config.parallel_for) && big;
   const ParallelFor* pf = parallel ? &config.parallel_for : nullptr;
-
-  Top top{config, spheres.data(), mats, pf, big ? std::max(kMinTask, n / 128) : 0xffffffffu,
-          {}, {}, 0, 0};
-  top.build(Builder(spheres.data(), mats, config, pf).make_range(0, n));
+  SplitSettings settings;
+  settings.max_leaf = uint32_t(std::clamp(config.max_leaf_size, 1, kMaxLeafSize));
+  settings.bins = std::clamp(config.sah_bins, 2, kMaxBins);
+  Top<Prims> top{prims, settings, pf, big ? std::max(kMinTask, n / 128) : 0xffffffffu, {}, {}, 0, 0};
+  top.build(Splitter<Prims>(prims, settings, pf).make_range(0, n));
 
   // Subtrees: largest first (better balance on a dynamic executor), each into its own arena.
   std::vector<size_t> order(top.tasks.size());
@@ -233,7 +230,7 @@ Bvh8 build_bvh8_spheres(std::vector<Sphere>& spheres, std::vector<uint16_t>& mat
   });
   auto build_one = [&](size_t k) {
     Task& t = *top.tasks[order[k]];
-    Builder b(spheres.data(), mats, config, nullptr);
+    Builder<Prims> b(prims, settings);
     b.build(t.arena, t.range, t.level);
     t.depth = b.depth;
     t.leaves = b.leaves;
@@ -264,6 +261,33 @@ Bvh8 build_bvh8_spheres(std::vector<Sphere>& spheres, std::vector<uint16_t>& mat
     out.leaves += t->leaves;
   }
   return out;
+}
+
+}  // namespace
+}  // namespace sphere_bvh
+
+Bvh8 build_bvh8_spheres(std::vector<Sphere>& spheres, std::vector<uint16_t>& materials,
+                        const AccelConfig& config) {
+  using namespace sphere_bvh;
+  if (spheres.empty()) return {};
+  const uint32_t n = uint32_t(spheres.size());
+  // A material array of another size is malformed: leave it alone (as Accel::build does).
+  uint16_t* mats = materials.size() == spheres.size() ? materials.data() : nullptr;
+  // Bounds that are all finite need no check per use (the same bounds either way).
+  bool finite = true;
+  if (config.parallel_for && n > kParallelMin) {
+    const size_t chunks = (n + kBinChunk - 1) / kBinChunk;
+    std::vector<uint8_t> part(chunks);
+    config.parallel_for(chunks, [&](size_t c) {
+      const uint32_t b = uint32_t(c) * kBinChunk;
+      part[c] = finite_boxes(spheres.data(), b, std::min(n, b + kBinChunk));
+    });
+    for (uint8_t f : part) finite = finite && f;
+  } else {
+    finite = finite_boxes(spheres.data(), 0, n);
+  }
+  if (finite) return build(SpherePrims<false>{spheres.data(), mats}, n, config);
+  return build(SpherePrims<true>{spheres.data(), mats}, n, config);
 }
 
 }  // namespace frameless
