@@ -20,15 +20,6 @@ constexpr uint64_t kSeedSalt = 0x6672616d656c6573ull;  // separates engine sampl
 // diagonal pair, alternating, so a pixel is fully covered after two updates.
 constexpr int kStrata[2][2] = {{0, 3}, {1, 2}};
 
-template <bool kCustom>
-inline SampleResult shade(const Engine::Impl& e, const CameraBasis& b, float px, float py,
-                          uint64_t seed, const DynamicFrame* frame) {
-  if constexpr (kCustom)
-    return e.cfg.shader.fn(e.cfg.shader.context, b, px, py, seed);
-  else
-    return trace_sample(e.scene, b, px, py, seed, frame);
-}
-
 // A sample this far (in standard deviations of the pixel's luminance, plus a small absolute
 // floor) from the running mean means the content moved: the statistics restart.
 constexpr double kMotionSigmas = 3.0;
@@ -152,22 +143,10 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   }
 }
 
-// One pixel update traced ray by ray (custom shaders, and with packets off).
-template <bool kCustom>
-inline void update_pixel(Engine::Impl& e, uint32_t idx, PixelState& p, const CameraBasis& basis,
-                         uint32_t epoch, float time, ThreadCounters& ctr, PixelSnapshot* frame,
-                         const DynamicFrame* world) {
-  UpdateSamples u;
-  prepare_samples(e, idx, p.passes.load(std::memory_order_relaxed), u);
-  SampleResult r[2];
-  for (int j = 0; j < (e.cfg.jitter ? 2 : 1); ++j)
-    r[j] = shade<kCustom>(e, basis, u.px[j], u.py[j], u.seed[j], world);
-  finish_update(e, idx, p, epoch, time, ctr, frame, world, r);
-}
-
-// Up to kPacketSize pixel updates traced together: their camera rays go through the static
-// scene as coherent packets (Accel::intersect_packet), then each sample is shaded on its own
-// with its exact single-ray hit, so the images equal update_pixel's bit for bit.
+// Up to kPacketSize consecutive pixel updates, traced together: with packets on, their camera
+// rays go through the static scene as coherent packets (Accel::intersect_packet) and each sample
+// is shaded on its own with its exact single-ray hit, so images equal ray-by-ray tracing's bit
+// for bit; otherwise ray by ray, or by the custom shader.
 struct PacketBatch {
   static constexpr int kMax = kPacketSize;  // pixel updates per batch (two packets with jitter)
   int n = 0;
@@ -182,6 +161,8 @@ struct PacketBatch {
 void trace_batch(Engine::Impl& e, PacketBatch& b, const CameraBasis& basis, DynamicFrame* world,
                  const WorldState* world_state) {
   const int spu = e.cfg.jitter ? 2 : 1;
+  const SampleShader& custom = e.cfg.shader;
+  const bool packets = e.cfg.packets && !custom.fn;
   UpdateSamples u[PacketBatch::kMax];
   float px[2 * PacketBatch::kMax], py[2 * PacketBatch::kMax];
   Hit hits[2 * PacketBatch::kMax];
@@ -189,13 +170,14 @@ void trace_batch(Engine::Impl& e, PacketBatch& b, const CameraBasis& basis, Dyna
     prepare_samples(e, b.idx[k], b.state[k]->passes.load(std::memory_order_relaxed), u[k]);
     for (int j = 0; j < spu; ++j) px[k * spu + j] = u[k].px[j], py[k * spu + j] = u[k].py[j];
   }
-  primary_hits(e.scene, basis, b.n * spu, px, py, hits);
+  if (packets) primary_hits(e.scene, basis, b.n * spu, px, py, hits);
   for (int k = 0; k < b.n; ++k) {
     if (world && world_state && world->time != b.t[k])
       advance_frame(e.scene, *world_state, b.t[k], *world);
     for (int j = 0; j < spu; ++j)
-      b.r[k][j] = trace_sample(e.scene, basis, u[k].px[j], u[k].py[j], u[k].seed[j], world,
-                               &hits[k * spu + j]);
+      b.r[k][j] = custom.fn ? custom.fn(custom.context, basis, u[k].px[j], u[k].py[j], u[k].seed[j])
+                            : trace_sample(e.scene, basis, u[k].px[j], u[k].py[j], u[k].seed[j],
+                                           world, packets ? &hits[k * spu + j] : nullptr);
   }
 }
 
@@ -228,48 +210,12 @@ void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
   epoch = ep;
 }
 
-template <bool kCustom, bool kAdaptive>
-void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
-  const std::vector<uint32_t>& list = *w.pixels;
-  const size_t n = list.size();
-  if (n == 0) return;
-  ThreadCounters& ctr = e.counters[w.index];
-  for (uint64_t i = 0; i < count;) {  // i counts rendered updates (adaptive skips do not count)
-    if (--w.countdown == 0) {
-      w.countdown = w.interval;
-      refresh_camera(e, w.epoch, w.basis);
-      refresh_world(e, w, t_begin + dt * double(i));
-    }
-    const size_t pos = w.pos;
-    const uint32_t idx = list[pos];
-    PixelState& p = e.states[w.first_slot + pos];  // slots follow the list: a sequential walk
-    if (++w.pos == n) w.pos = 0;
-    // Adaptive sampling (frameless/adaptive.h): a converged pixel's visit renders nothing; the
-    // visit counter still advances so the display's cursor arithmetic holds.
-    if constexpr (kAdaptive)
-      if (adaptive_skip(e.cfg.adaptive, p, w.epoch, w.adaptive.skip_run[pos])) {
-        ctr.updates.store(++w.updates, std::memory_order_release);
-        continue;
-      }
-    const double t = t_begin + dt * double(i);
-    const float time = float(t);
-    // Dynamic objects are where they are at this sample's own instant.
-    if (w.moving && w.frame.time != t) advance_frame(e.scene, w.world, t, w.frame);
-    update_pixel<kCustom>(e, idx, p, w.basis, w.epoch, time, ctr, nullptr,
-                          w.moving ? &w.frame : nullptr);
-    log_update(e, w, idx, time);
-    // The display derives which pixels changed from this counter: publish after the pixel.
-    ctr.updates.store(++w.updates, std::memory_order_release);
-    ++i;
-  }
-}
-
-// run_visits with the camera rays of up to PacketBatch::kMax consecutive visits traced as
-// packets. Visits are gathered in order, traced, then published in order, adaptive skips
-// included, so every counter and pixel sees the same sequence as the one-by-one loop. A batch
-// ends before a camera or world pick-up and at the end of the list (no pixel twice).
+// The frameless walk over a thread's pixel list: up to PacketBatch::kMax consecutive visits are
+// gathered in order, traced together, then published in order, adaptive skips included, so every
+// counter and pixel sees the sequence of a one-by-one walk. A batch ends before a camera or world
+// pick-up and at the end of the list (no pixel twice).
 template <bool kAdaptive>
-void run_visits_packets(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin,
+void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin,
                         double dt) {
   const std::vector<uint32_t>& list = *w.pixels;
   const size_t n = list.size();
@@ -325,21 +271,11 @@ void run_visits_packets(Engine::Impl& e, FramelessWorker& w, uint64_t count, dou
 }  // namespace
 
 void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt) {
-  const bool packets = e.cfg.packets && !e.cfg.shader.fn;
   if (e.cfg.adaptive.enabled) {
     if (w.adaptive.skip_run.size() != w.pixels->size()) w.adaptive.skip_run.assign(w.pixels->size(), 0);
-    if (packets)
-      run_visits_packets<true>(e, w, count, t_begin, dt);
-    else if (e.cfg.shader.fn)
-      run_visits<true, true>(e, w, count, t_begin, dt);
-    else
-      run_visits<false, true>(e, w, count, t_begin, dt);
-  } else if (packets) {
-    run_visits_packets<false>(e, w, count, t_begin, dt);
-  } else if (e.cfg.shader.fn) {
-    run_visits<true, false>(e, w, count, t_begin, dt);
+    run_visits<true>(e, w, count, t_begin, dt);
   } else {
-    run_visits<false, false>(e, w, count, t_begin, dt);
+    run_visits<false>(e, w, count, t_begin, dt);
   }
 }
 
@@ -375,33 +311,19 @@ void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double
     w.frame_serial = e.frame_serial;
   }
   const DynamicFrame* world = w.moving ? &w.frame : nullptr;
-  if (e.cfg.packets && !e.cfg.shader.fn) {
-    // Consecutive pixels of a tile row as packets; the frame's world stays at one instant.
-    PacketBatch b;
-    for (size_t i = begin; i < end;) {
-      for (b.n = 0; b.n < PacketBatch::kMax && i < end; ++b.n, ++i) {
-        b.idx[b.n] = e.job_pixels[i];
-        b.state[b.n] = &e.states[i];
-        b.t[b.n] = t_begin + dt * double(i - begin);
-        b.frame[b.n] = &frame[e.job_pixels[i]];
-      }
-      trace_batch(e, b, e.frame_basis, w.moving ? &w.frame : nullptr, nullptr);
-      for (int k = 0; k < b.n; ++k)
-        finish_update(e, b.idx[k], *b.state[k], e.frame_epoch, float(b.t[k]), ctr, b.frame[k], world, b.r[k]);
+  // Consecutive pixels of a tile row as batches; the frame's world stays at one instant.
+  PacketBatch b;
+  for (size_t i = begin; i < end;) {  // in conventional mode slot i holds job_pixels[i]
+    for (b.n = 0; b.n < PacketBatch::kMax && i < end; ++b.n, ++i) {
+      b.idx[b.n] = e.job_pixels[i];
+      b.state[b.n] = &e.states[i];
+      b.t[b.n] = t_begin + dt * double(i - begin);
+      b.frame[b.n] = &frame[e.job_pixels[i]];
     }
-    ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
-                      std::memory_order_release);
-    return;
-  }
-  for (size_t i = begin; i < end; ++i) {  // in conventional mode slot i holds job_pixels[i]
-    const uint32_t idx = e.job_pixels[i];
-    const float time = float(t_begin + dt * double(i - begin));
-    if (e.cfg.shader.fn)
-      update_pixel<true>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr, &frame[idx],
-                         world);
-    else
-      update_pixel<false>(e, idx, e.states[i], e.frame_basis, e.frame_epoch, time, ctr,
-                          &frame[idx], world);
+    trace_batch(e, b, e.frame_basis, w.moving ? &w.frame : nullptr, nullptr);
+    for (int k = 0; k < b.n; ++k)
+      finish_update(e, b.idx[k], *b.state[k], e.frame_epoch, float(b.t[k]), ctr, b.frame[k],
+                    world, b.r[k]);
   }
   ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
                     std::memory_order_release);
