@@ -283,7 +283,6 @@ void traverse_packet(const Bvh8Node* nodes, const Geometry& g, const Accel::Alph
   _mm256_store_ps(tmax_box, p.tmax_box);
   float tmax_all = hmax8(p.tmax_box);
   uint32_t active = p.all;  // any-hit: rays not yet occluded
-  bool found[kPacketSize] = {};
   // A lane's new best hit narrows its interval and, through tmax_all, the packet's.
   // (A blend, not a reload of tmax_box: a wide load after a narrow store stalls.)
   auto narrow = [&](int i, float t) {
@@ -296,14 +295,13 @@ void traverse_packet(const Bvh8Node* nodes, const Geometry& g, const Accel::Alph
   // Records a candidate of lane i (already within its widened interval) if it wins.
   auto offer = [&](int i, float t, float u, float v, uint32_t prim) -> bool {
     const Ray& r = rays[i];
-    if (kAnyHit ? !(t <= r.tmax) : !closer_hit(t, prim, found[i], hits[i], r.tmax)) return false;
+    if (kAnyHit ? !(t <= r.tmax) : !closer_hit(t, prim, hits[i].valid(), hits[i], r.tmax)) return false;
     if (alpha.opaque && !alpha_opaque(alpha, g, prim, r, t, u, v)) return false;
     if constexpr (kAnyHit) {
       occ[i] = true;
       active &= ~(1u << i);
     } else {
       hits[i] = Hit{t, prim, u, v};
-      found[i] = true;
       narrow(i, t);
     }
     return true;
