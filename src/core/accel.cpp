@@ -11,6 +11,7 @@
 #endif
 
 #include "core/accel_impl.h"
+#include "core/instance_top.h"
 #include "core/bvh_build.h"
 #include "core/bvh_build_spheres.h"
 #include "core/intersect_sphere.h"
@@ -219,7 +220,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
 
 }  // namespace
 
-bool Accel::intersect(const Ray& ray, Hit& hit) const {
+bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
   bool found;
   if (impl_->grid)
@@ -227,16 +228,16 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
   else
     found = impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
-  if (!impl_->tlas.empty()) found = intersect_instances(ray, hit, found);
+  if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
 }
 
-bool Accel::occluded(const Ray& ray) const {
-  if (impl_->grid) return impl_->grid->occluded(ray) || (!impl_->tlas.empty() && occluded_instances(ray));
+bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
+  if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
   if (impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha))
     return true;
-  return !impl_->tlas.empty() && occluded_instances(ray);
+  return occluded_instances(ray, top);
 }
 
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {

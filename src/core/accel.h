@@ -12,6 +12,8 @@
 
 namespace frameless {
 
+struct InstanceTop;
+
 // Which acceleration structure a scene uses (seed section 2): the 8-wide BVH, Parker's hybrid
 // grid (a uniform grid whose crowded cells hold small BVHs, core/grid_accel.h), or whichever
 // does less work on a fixed trial of the scene's own rays (docs/accel.md).
@@ -73,16 +75,18 @@ class Accel {
   // Builds over geom; may permute geom's primitive arrays. geom must outlive the Accel.
   void build(Geometry& geom, const AccelConfig& config = {});
 
-  // Closest hit in [ray.tmin, ray.tmax]; fills hit and returns true when found.
-  bool intersect(const Ray& ray, Hit& hit) const;
+  // Closest hit in [ray.tmin, ray.tmax]; fills hit and returns true when found. `top`: the
+  // instances' top level to use instead of the one built here (instances moved since; null:
+  // the built one); hit.inst is a position in the top in use.
+  bool intersect(const Ray& ray, Hit& hit, const InstanceTop* top = nullptr) const;
   // Any hit in [ray.tmin, ray.tmax] (early exit): for shadow rays.
-  bool occluded(const Ray& ray) const;
+  bool occluded(const Ray& ray, const InstanceTop* top = nullptr) const;
   // The same queries for n <= kPacketSize rays traced together through the tree (coherent
   // packets: neighbouring camera rays, or shadow rays from neighbouring points). Each result is
   // bit for bit what the single-ray query returns; hits[i] is reset on a miss. Packets whose
   // rays point different ways along an axis, grids and spline patches go ray by ray.
-  void intersect_packet(const Ray* rays, int n, Hit* hits) const;
-  void occluded_packet(const Ray* rays, int n, bool* occluded) const;
+  void intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTop* top = nullptr) const;
+  void occluded_packet(const Ray* rays, int n, bool* occluded, const InstanceTop* top = nullptr) const;
   // The same queries, adding their work to `counts` (the auto trial and bench accel).
   bool intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const;
   bool occluded_counted(const Ray& ray, TraversalCounts& counts) const;
@@ -103,8 +107,12 @@ class Accel {
 
   // Any hit on instanced geometry only (soft shadows: visit_cone covers the flat geometry, and
   // instances block the shadow ray's axis like a hard shadow).
-  bool occluded_instances(const Ray& ray) const;
+  bool occluded_instances(const Ray& ray, const InstanceTop* top = nullptr) const;
   bool has_instances() const;
+  // The top level built over geom.instances (null without instances); core/instance_top.h.
+  std::shared_ptr<const InstanceTop> instance_top() const;
+  // `top` when given, else the built one (null without instances).
+  const InstanceTop* top_in_use(const InstanceTop* top) const;
 
   // Cut-out surfaces: when set, a candidate hit on a primitive for which masked(prim) is true is
   // kept only if opaque(ctx, prim, ray, t, u, v) says so (alpha textures). Empty: no test at all.
@@ -122,7 +130,6 @@ class Accel {
   void build_bvh(Geometry& geom, const AccelConfig& config);
   // The top level over geom.instances (core/accel_instances.cpp).
   void build_instances(Geometry& geom, const AccelConfig& config);
-  bool intersect_instances(const Ray& ray, Hit& hit, bool found) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

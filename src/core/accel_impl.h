@@ -105,7 +105,7 @@ struct Accel::Impl {
   std::unique_ptr<GridAccel> grid;  // the hybrid grid, when chosen
   AccelStats stats;
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces
-  std::vector<Bvh8Node> tlas;  // top level over geom->instances (empty: no instances)
+  std::shared_ptr<const InstanceTop> top;  // top level over geom->instances (null: none)
   float scene_size = 0.0f;     // largest extent of the root box (packets' coherence test)
 };
 

@@ -12,6 +12,7 @@
 #endif
 
 #include "core/accel_impl.h"
+#include "core/instance_top.h"
 #include "core/intersect_sphere.h"
 #include "core/intersect_triangle.h"
 
@@ -19,14 +20,14 @@ namespace frameless {
 namespace {
 
 // Ray by ray: the fallback for packets the SIMD walk does not take.
-void intersect_each(const Accel& a, const Ray* rays, int n, Hit* hits) {
+void intersect_each(const Accel& a, const Ray* rays, int n, Hit* hits, const InstanceTop* top) {
   for (int i = 0; i < n; ++i) {
     hits[i] = Hit{};
-    if (!a.intersect(rays[i], hits[i])) hits[i] = Hit{};
+    if (!a.intersect(rays[i], hits[i], top)) hits[i] = Hit{};
   }
 }
-void occluded_each(const Accel& a, const Ray* rays, int n, bool* occ) {
-  for (int i = 0; i < n; ++i) occ[i] = a.occluded(rays[i]);
+void occluded_each(const Accel& a, const Ray* rays, int n, bool* occ, const InstanceTop* top) {
+  for (int i = 0; i < n; ++i) occ[i] = a.occluded(rays[i], top);
 }
 
 #if defined(FRAMELESS_PACKETS)
@@ -405,7 +406,7 @@ bool packet_walk(bool bvh, const Geometry* g, float scene_size, const Ray* rays,
 }  // namespace
 #endif
 
-void Accel::intersect_packet(const Ray* rays, int n, Hit* hits) const {
+void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTop* top) const {
   n = std::clamp(n, 0, kPacketSize);
   if (n == 0) return;
 #if defined(FRAMELESS_PACKETS)
@@ -415,16 +416,16 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits) const {
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) hits[i] = Hit{};
       traverse_packet<false>(im.nodes.data(), *im.geom, im.alpha, rays, p, hits, nullptr);
-      if (!im.tlas.empty())  // instances ray by ray, in the order a single ray takes
-        for (int i = 0; i < n; ++i) intersect_instances(rays[i], hits[i], hits[i].valid());
+      if ((top = top_in_use(top)))  // instances ray by ray, in the order a single ray takes
+        for (int i = 0; i < n; ++i) intersect_instances(*top, rays[i], hits[i], hits[i].valid());
       return;
     }
   }
 #endif
-  intersect_each(*this, rays, n, hits);
+  intersect_each(*this, rays, n, hits, top);
 }
 
-void Accel::occluded_packet(const Ray* rays, int n, bool* occluded) const {
+void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const InstanceTop* top) const {
   n = std::clamp(n, 0, kPacketSize);
   if (n == 0) return;
 #if defined(FRAMELESS_PACKETS)
@@ -434,13 +435,13 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded) const {
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) occluded[i] = false;
       traverse_packet<true>(im.nodes.data(), *im.geom, im.alpha, rays, p, nullptr, occluded);
-      if (!im.tlas.empty())
-        for (int i = 0; i < n; ++i) occluded[i] = occluded[i] || occluded_instances(rays[i]);
+      if ((top = top_in_use(top)))
+        for (int i = 0; i < n; ++i) occluded[i] = occluded[i] || frameless::occluded_instances(*top, rays[i]);
       return;
     }
   }
 #endif
-  occluded_each(*this, rays, n, occluded);
+  occluded_each(*this, rays, n, occluded, top);
 }
 
 }  // namespace frameless

@@ -103,7 +103,7 @@ void evaluate_frame(const Scene& scene, const WorldState& w, double t, DynamicFr
 }
 
 bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit) {
-  if (!scene.accel.intersect(ray, hit)) hit = Hit{};
+  if (!scene.accel.intersect(ray, hit, frame_instances(frame))) hit = Hit{};
   return merge_dynamic_hit(frame, ray, hit);
 }
 
@@ -133,12 +133,13 @@ bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ra
       if (intersect_sphere(ray.org, ray.dir, s, ray.tmin, ray.tmax, t)) return true;
     }
   }
-  return scene.accel.occluded(ray);
+  return scene.accel.occluded(ray, frame_instances(frame));
 }
 
 SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
                                  const Hit& hit) {
-  if (hit.inst != kInvalidId) return instance_surface_point(scene.geometry, ray, hit);
+  if (hit.inst != kInvalidId)
+    return instance_surface_point(*scene.accel.top_in_use(frame_instances(frame)), ray, hit);
   if (!is_dynamic_prim(hit.prim) || !frame) return surface_point(scene.geometry, ray, hit);
   const uint32_t i = hit.prim - kDynamicPrimBase;
   SurfacePoint sp = sphere_surface_point(frame->spheres[i], frame->sphere_material[i], ray, hit.t);

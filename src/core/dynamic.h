@@ -3,6 +3,7 @@
 // dynamic object at that sample's instant, plus the current lights and materials (which the
 // application may change too). Render threads own their frames; nothing here locks.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 namespace frameless {
 
 struct Scene;
+struct InstanceTop;
 
 // Hits on dynamic object i carry prim = kDynamicPrimBase + i.
 inline constexpr uint32_t kDynamicPrimBase = 0xc0000000u;
@@ -26,6 +28,12 @@ struct DynamicObject {
   Sphere sphere;         // rest position and radius
   uint16_t material = 0;
   Motion motion;         // offset from the rest (or application-set) position as time passes
+};
+
+// An instance that moves: declared instance `index` translated from its declared placement.
+struct InstanceMotion {
+  uint32_t index = 0;
+  Motion motion;
 };
 
 // What the application side may change while rendering (published through the engine's motion
@@ -57,6 +65,8 @@ struct DynamicFrame {
   std::vector<uint16_t> sphere_material;  // material of each
   std::vector<Light> lights;              // current lights
   std::vector<MaterialParams> materials;  // current material parameters
+  // Instances moved since the scene was built: the newest top level picked up (null: none moved).
+  std::shared_ptr<const InstanceTop> instances;
   double time = -1.0;                     // instant the spheres were evaluated at
   uint32_t shade_path = 15u;              // shading path for these lights and materials
 };
@@ -65,6 +75,11 @@ struct DynamicFrame {
 void evaluate_frame(const Scene& scene, const WorldState& w, double t, DynamicFrame& frame);
 // Moves the spheres to time t only (the per-sample path: no allocation).
 void advance_frame(const Scene& scene, const WorldState& w, double t, DynamicFrame& frame);
+
+// The moved instances' top level a frame sees (null: the scene's own, as built).
+inline const InstanceTop* frame_instances(const DynamicFrame* frame) {
+  return frame ? frame->instances.get() : nullptr;
+}
 
 // Closest hit over the static structure and the dynamic objects (frame may be null).
 bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/instance_top.h"
 #include "core/scene.h"
 #include "core/texturing.h"
 
@@ -77,9 +78,9 @@ SurfacePoint to_world_point(const Instance& inst, const SurfacePoint& o) {
 
 }  // namespace
 
-SurfacePoint instance_surface_point(const Geometry& geom, const Ray& ray, const Hit& hit) {
-  const Instance& inst = geom.instances[hit.inst];
-  const InstancedMesh& mesh = *geom.instance_meshes[inst.mesh];
+SurfacePoint instance_surface_point(const InstanceTop& top, const Ray& ray, const Hit& hit) {
+  const Instance& inst = top.instances[hit.inst];
+  const InstancedMesh& mesh = *(*top.meshes)[inst.mesh];
   const Ray oray = to_object_ray(inst, ray);
   Hit local = hit;
   local.inst = kInvalidId;
@@ -88,10 +89,10 @@ SurfacePoint instance_surface_point(const Geometry& geom, const Ray& ray, const 
   return sp;
 }
 
-void apply_instance_textures(const Scene& scene, const Ray& ray, const Hit& hit,
-                             MaterialParams& m, SurfacePoint& sp) {
-  const Instance& inst = scene.geometry.instances[hit.inst];
-  const InstancedMesh& mesh = *scene.geometry.instance_meshes[inst.mesh];
+void apply_instance_textures(const Scene& scene, const InstanceTop& top, const Ray& ray,
+                             const Hit& hit, MaterialParams& m, SurfacePoint& sp) {
+  const Instance& inst = top.instances[hit.inst];
+  const InstancedMesh& mesh = *(*top.meshes)[inst.mesh];
   const Ray oray = to_object_ray(inst, ray);
   Hit local = hit;
   local.inst = kInvalidId;

@@ -47,13 +47,15 @@ inline Ray to_object_ray(const Instance& inst, const Ray& ray) {
   return r;
 }
 
-// Surface point of a hit on an instance (hit.inst valid), in world space.
-SurfacePoint instance_surface_point(const Geometry& geom, const Ray& ray, const Hit& hit);
+struct InstanceTop;
+
+// Surface point of a hit on an instance (hit.inst: its position in `top`), in world space.
+SurfacePoint instance_surface_point(const InstanceTop& top, const Ray& ray, const Hit& hit);
 
 // Textures of a hit on an instance: evaluated in object space, the perturbed shading normal
 // carried to world space into sp.
-void apply_instance_textures(const Scene& scene, const Ray& ray, const Hit& hit,
-                             MaterialParams& m, SurfacePoint& sp);
+void apply_instance_textures(const Scene& scene, const InstanceTop& top, const Ray& ray,
+                             const Hit& hit, MaterialParams& m, SurfacePoint& sp);
 
 // Triangles the scene represents: its own plus every instance's mesh.
 uint64_t represented_triangles(const Geometry& geom);

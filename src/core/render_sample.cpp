@@ -37,12 +37,12 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
 }
 
 void primary_hits(const Scene& scene, const CameraBasis& camera, int n, const float* px,
-                  const float* py, Hit* hits) {
+                  const float* py, Hit* hits, const DynamicFrame* frame) {
   Ray rays[kPacketSize];
   for (int b = 0; b < n; b += kPacketSize) {
     const int m = std::min(kPacketSize, n - b);
     for (int k = 0; k < m; ++k) rays[k] = camera_ray(camera, px[b + k], py[b + k]);
-    scene.accel.intersect_packet(rays, m, hits + b);
+    scene.accel.intersect_packet(rays, m, hits + b, frame_instances(frame));
   }
 }
 

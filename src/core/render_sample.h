@@ -25,8 +25,9 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
 // The static scene's closest hits of n camera rays through (px[i], py[i]), traced as coherent
 // packets (Accel::intersect_packet): exactly the hits single rays find, so trace_sample with
 // them returns the same samples bit for bit. Any n; consecutive rays should be neighbours.
+// frame: its moved instances are the ones hit (null: the scene as built).
 void primary_hits(const Scene& scene, const CameraBasis& camera, int n, const float* px,
-                  const float* py, Hit* hits);
+                  const float* py, Hit* hits, const DynamicFrame* frame = nullptr);
 
 // Sample `sample_index` of pixel (x, y): jitter offset and rng seed derived from
 // (x, y, sample_index, scene.settings.seed). jitter=false samples the pixel centre.

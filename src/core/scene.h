@@ -73,6 +73,9 @@ struct Scene {
   Accel accel;
   // Objects that move (seed section 4): outside `accel`, tested per ray (core/dynamic.h).
   std::vector<DynamicObject> dynamic;
+  // Instances that move (JSON "motion" on an instance): offsets from their declared placement,
+  // applied by the application side (Engine::animate_instances), which publishes a refit top.
+  std::vector<InstanceMotion> instance_motions;
 };
 
 // Material parameters in effect for a sample: the frame's (changed while you look) or the scene's.

@@ -296,7 +296,7 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     add_box(s, lo, hi, object_material(o, f, ctx, glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi))));
   } else if (type == "instance") {
     // One more placement of a mesh declared once under "meshes" (two-level BVH).
-    check_keys(o, f, {"type", "mesh", "transform"});
+    check_keys(o, f, {"type", "mesh", "transform", "motion"});
     const std::string name = get_string(need(o, f, "mesh"), f + ".mesh");
     const auto it = ctx.shared.find(name);
     if (it == ctx.shared.end()) fail(f + ".mesh", "no mesh '" + name + "' under \"meshes\"");
@@ -306,6 +306,8 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     a.t = Vec3(m[3]);
     Instance inst;
     if (!make_instance(it->second, a, inst)) fail(f + ".transform", "singular or non-finite transform");
+    if (o.contains("motion"))  // moved by the application side, which publishes a refit top level
+      parse_instance_motion(o["motion"], f + ".motion", s, uint32_t(s.geometry.instances.size()));
     s.geometry.instances.push_back(inst);
   } else {
     fail(f + ".type", "unknown object type '" + type +

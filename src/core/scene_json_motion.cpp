@@ -64,6 +64,16 @@ void parse_dynamic_sphere(const json& o, const std::string& f, Scene& s, const S
   s.dynamic.push_back(std::move(d));
 }
 
+void parse_instance_motion(const json& o, const std::string& f, Scene& s, uint32_t index) {
+  Vec3 velocity(0.0f);
+  bool is_physics = false;
+  InstanceMotion m;
+  m.index = index;
+  m.motion = parse_motion(o, f, velocity, is_physics);
+  if (is_physics) fail(f + ".type", "physics motion is for spheres only (bounce or keyframes)");
+  s.instance_motions.push_back(std::move(m));
+}
+
 void finish_physics(const json* pj, Scene& s, PendingPhysics& pending) {
   BallWorld w;
   if (pj) {

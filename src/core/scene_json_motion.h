@@ -18,6 +18,8 @@ struct PendingPhysics {
 
 void parse_dynamic_sphere(const json& o, const std::string& f, Scene& s, const Sphere& sphere,
                           uint16_t material, PendingPhysics& physics);
+// An instance's "motion" (bounce or keyframes): declared instance `index` moves by it.
+void parse_instance_motion(const json& motion, const std::string& f, Scene& s, uint32_t index);
 void finish_physics(const json* physics, Scene& s, PendingPhysics& pending);
 
 }  // namespace frameless::scene_json

@@ -291,7 +291,7 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
   MaterialParams m = base;
   SurfacePoint tsp = sp;
   if (hit.inst != kInvalidId)
-    apply_instance_textures(c.scene, ray, hit, m, tsp);
+    apply_instance_textures(c.scene, *c.scene.accel.top_in_use(frame_instances(c.frame)), ray, hit, m, tsp);
   else
     apply_textures(c.scene, ray, hit, m, tsp);
   return shade_material<F>(c, ray, m, tsp, depth, weight, medium);

@@ -425,7 +425,7 @@ float soft_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFra
   r.tmax = q.tmax;
   if (!query.dynamic_objects()) return 0.0f;
   // Instanced geometry is outside the cone query: it shadows the axis (a hard shadow).
-  if (scene.accel.has_instances() && scene.accel.occluded_instances(r)) return 0.0f;
+  if (scene.accel.occluded_instances(r, frame_instances(frame))) return 0.0f;
   if (!scene.accel.visit_cone(r, q.tan_half, query)) return 0.0f;
   return query.finish();
 }

@@ -257,6 +257,7 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
   std::map<uint32_t, Camera> cameras = {{engine.camera_epoch(), start}};  // epoch -> camera
   Camera published = start;
   auto publish_at = [&](double t) {
+    engine.animate_instances(t);  // instances with a "motion" (nothing when the scene has none)
     const Camera c = evaluate_camera_path(opt.path, t, opt.camera);
     if (c == published) return;  // republishing would restart every pixel's average
     cameras[engine.publish_camera(c)] = c;

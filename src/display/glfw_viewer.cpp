@@ -30,7 +30,8 @@ const std::vector<std::string> kHelp = {
     "drag: orbit  right/middle drag: pan",   "wheel: zoom  WASD, Q/E: fly  R: reset",
     "M: frameless/conventional  V: view",    "[ ]: alpha -/+   - =: refresh -/+",
     ", .: update % -/+   G T: threads -/+",  "P: save EXR snapshot  H/F1: help",
-    "arrows, PgUp/PgDn: move the light",     "O: overlay on/off  Esc: quit"};
+    "arrows, PgUp/PgDn: move the light (or the grabbed instance)",
+    "I: grab/release the instance at the centre of the view",     "O: overlay on/off  Esc: quit"};
 
 std::string glfw_error_text;
 void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unknown error"; }
@@ -72,6 +73,7 @@ struct Viewer {
   std::string status;  // one-line message shown in the overlay (snapshot saved, errors)
   int pending_w = 0, pending_h = 0;
   double pending_since = 0;
+  int64_t grabbed = -1;  // declared index of the instance the arrow keys move (-1: the light)
 
   double now() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -146,8 +148,43 @@ struct Viewer {
         break;
       case GLFW_KEY_G: engine->set_threads(std::max(1, engine->thread_count() - 1)); break;
       case GLFW_KEY_T: engine->set_threads(std::min(256, engine->thread_count() + 1)); break;
+      case GLFW_KEY_I: grab_or_release(); break;
       default: return;
     }
+    dirty = true;
+  }
+
+  // Grabs the instance seen at the centre of the view (OpenRT's "move parts of the power plant
+  // around"), or releases the one grabbed.
+  void grab_or_release() {
+    if (grabbed >= 0) {
+      status = "released instance " + std::to_string(grabbed);
+      grabbed = -1;
+      return;
+    }
+    const std::shared_ptr<const InstanceTop> top = engine->instance_top();
+    const CameraBasis b = make_camera_basis(camera, engine->width(), engine->height());
+    Hit hit;
+    const Ray r = camera_ray(b, 0.5f * float(engine->width()), 0.5f * float(engine->height()));
+    if (top && scene.accel.intersect(r, hit, top.get()) && hit.inst != kInvalidId) {
+      grabbed = top->declared[hit.inst];
+      status = "grabbed instance " + std::to_string(grabbed) + ": arrows and PgUp/PgDn move it, I releases";
+    } else {
+      status = "no instance at the centre of the view";
+    }
+  }
+
+  // Moves the grabbed instance by `d` (world units); a refit top level is published.
+  void move_grabbed(const Vec3& d) {
+    Affine a = engine->instance_transform(uint32_t(grabbed));
+    a.t += d;
+    InstanceUpdate u;
+    engine->move_instances({{uint32_t(grabbed), a}}, &u);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "instance %lld moved: top level %s in %.2f ms",
+                  (long long)grabbed, u.rebuilt ? "rebuilt" : "refit",
+                  u.copy_ms + u.refit_ms + u.rebuild_ms);
+    status = buf;
     dirty = true;
   }
 
@@ -346,7 +383,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
   WorldState world = engine.world();  // lights the arrow keys move (published like the camera)
   size_t next_script = 0;
   int presented = 0;
-  double last_loop = v.now();
+  double last_loop = v.now(), last_animation = -1.0;
   while (!glfwWindowShouldClose(window) && !v.quit) {
     glfwWaitEventsTimeout(0.1);
     const double t = v.now(), dt = t - last_loop;
@@ -361,10 +398,18 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
     const float lx = held(GLFW_KEY_RIGHT) - held(GLFW_KEY_LEFT),
                 ly = held(GLFW_KEY_PAGE_UP) - held(GLFW_KEY_PAGE_DOWN),
                 lz = held(GLFW_KEY_DOWN) - held(GLFW_KEY_UP);
-    if ((lx != 0 || ly != 0 || lz != 0) && !world.lights.empty()) {
-      const float speed = glm::length(v.camera.eye - v.camera.look) * float(std::min(dt, 0.1));
+    const float speed = glm::length(v.camera.eye - v.camera.look) * float(std::min(dt, 0.1));
+    if ((lx != 0 || ly != 0 || lz != 0) && v.grabbed >= 0) {
+      v.move_grabbed(speed * Vec3(lx, ly, lz));
+    } else if ((lx != 0 || ly != 0 || lz != 0) && !world.lights.empty()) {
       world.lights[0].position += speed * Vec3(lx, ly, lz);
       engine.publish_world(world);
+    }
+    // Instances with a "motion" move at the display's pace (each move publishes a refit top).
+    if (!scene.instance_motions.empty() && t - last_animation >= 1.0 / 60.0) {
+      engine.animate_instances(engine.now());
+      last_animation = t;
+      v.dirty = true;
     }
     while (next_script < script.size() && script[next_script].time <= t) v.run_script(script[next_script++]);
     // Re-partition once the window has stopped changing size for a moment.

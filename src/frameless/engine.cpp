@@ -127,8 +127,9 @@ void Engine::start() {
       w.world = initial_world(e.scene);
       w.world_epoch = e.world_channel.read(w.world_buf);
       unpack_world(w.world_buf.data(), w.world_buf.size(), w.world);
-      w.moving = !e.scene.dynamic.empty() || w.world_epoch > 1;
       evaluate_frame(e.scene, w.world, e.now(), w.frame);
+      e.pick_up_instances(w.instances_epoch, w.frame.instances);
+      w.moving = !e.scene.dynamic.empty() || w.world_epoch > 1 || w.frame.instances;
     }
     e.frame_world = initial_world(e.scene);
     e.frame_world_epoch = 0;
@@ -192,6 +193,52 @@ uint32_t Engine::publish_world(const WorldState& world) {
 }
 
 uint32_t Engine::world_epoch() const { return impl_->world_channel.epoch(); }
+
+uint32_t Engine::move_instances(const std::vector<InstanceMove>& moves, InstanceUpdate* info) {
+  Impl& e = *impl_;
+  std::lock_guard<std::mutex> publishing(e.instances_publish);
+  std::shared_ptr<const InstanceTop> from;
+  {
+    std::lock_guard<std::mutex> lock(e.instances_mutex);
+    from = e.instances ? e.instances : e.scene.accel.instance_top();
+  }
+  if (!from) throw std::invalid_argument("move_instances: the scene has no instances");
+  auto moved = frameless::move_instances(*from, moves, AccelConfig{}, info);
+  if (!moved) throw std::invalid_argument("move_instances: " + moved.error().message);
+  std::lock_guard<std::mutex> lock(e.instances_mutex);
+  e.instances = std::move(*moved);
+  const uint32_t epoch = e.instances_epoch.load(std::memory_order_relaxed) + 1;
+  e.instances_epoch.store(epoch, std::memory_order_release);
+  return epoch;
+}
+
+uint32_t Engine::animate_instances(double t, InstanceUpdate* info) {
+  const Scene& s = impl_->scene;
+  if (s.instance_motions.empty()) return 0;
+  std::vector<InstanceMove> moves;
+  moves.reserve(s.instance_motions.size());
+  for (const InstanceMotion& m : s.instance_motions) {
+    Affine a = s.geometry.instances.at(m.index).to_world;
+    a.t += motion_offset(m.motion, t);
+    moves.push_back({m.index, a});
+  }
+  return move_instances(moves, info);
+}
+
+uint32_t Engine::instances_epoch() const { return impl_->instances_epoch.load(std::memory_order_acquire); }
+
+std::shared_ptr<const InstanceTop> Engine::instance_top() const {
+  const Impl& e = *impl_;
+  std::lock_guard<std::mutex> lock(e.instances_mutex);
+  return e.instances ? e.instances : e.scene.accel.instance_top();
+}
+
+Affine Engine::instance_transform(uint32_t i) const {
+  const std::shared_ptr<const InstanceTop> top = instance_top();
+  if (!top || i >= top->position.size())
+    throw std::out_of_range("instance_transform: instance " + std::to_string(i) + " out of range");
+  return top->instances[top->position[i]].to_world;
+}
 
 WorldState Engine::world() const {
   std::vector<float> flat;

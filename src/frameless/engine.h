@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/instance_top.h"
 #include "core/scene.h"
 #include "frameless/engine_config.h"
 #include "frameless/partition.h"
@@ -107,6 +108,21 @@ class Engine {
   uint32_t publish_world(const WorldState& world);
   uint32_t world_epoch() const;  // 1 until the first publish; any thread
   WorldState world() const;      // newest published world; any thread
+  // Instances moved while you look (OpenRT; core/instance_top.h): applies the moves (declared
+  // instance index, new world transform: only what changed) to the newest top level on the
+  // caller's thread (copied, then refit or rebuilt; the shared meshes are never touched) and
+  // publishes it; render threads pick it up at the update percentage, like the camera. Returns
+  // its epoch. Throws std::invalid_argument (one line) for an index out of range or a singular
+  // transform. Any thread; publishers are serialised.
+  uint32_t move_instances(const std::vector<InstanceMove>& moves, InstanceUpdate* info = nullptr);
+  // Moves the scene's animated instances (Scene::instance_motions) to engine time t; 0 (nothing
+  // published) when the scene has none.
+  uint32_t animate_instances(double t, InstanceUpdate* info = nullptr);
+  uint32_t instances_epoch() const;  // 1 until the first move; any thread
+  // Newest top level (null without instances): picking an instance under a ray. Any thread.
+  std::shared_ptr<const InstanceTop> instance_top() const;
+  // Newest world transform of declared instance i (std::out_of_range past the end). Any thread.
+  Affine instance_transform(uint32_t i) const;
 
   // Runtime changes (control thread). Each stops the threads, rebuilds what it must (resize
   // re-partitions and clears pixel state) and restarts them if they were running.

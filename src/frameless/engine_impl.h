@@ -48,6 +48,7 @@ struct FramelessWorker {
   DynamicFrame frame;
   std::vector<float> world_buf;
   uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame `frame` was evaluated for
+  uint32_t instances_epoch = 1;          // moved instances in frame.instances (1: as built)
   bool moving = false;
 };
 
@@ -70,6 +71,14 @@ struct Engine::Impl {
 
   Impl(const Scene& s, const EngineConfig& c, const Camera& camera)
       : scene(s), cfg(c), channel(camera), world_channel(initial_world_floats(s)) {}
+  // The newest moved top into `top` when its epoch differs from `epoch`; true when picked up.
+  bool pick_up_instances(uint32_t& epoch, std::shared_ptr<const InstanceTop>& top) const {
+    if (instances_epoch.load(std::memory_order_acquire) == epoch) return false;
+    std::lock_guard<std::mutex> lock(instances_mutex);
+    top = instances;
+    epoch = instances_epoch.load(std::memory_order_relaxed);
+    return true;
+  }
   static std::vector<float> initial_world_floats(const Scene& s) {
     std::vector<float> v;
     pack_world(initial_world(s), v);
@@ -80,6 +89,13 @@ struct Engine::Impl {
   EngineConfig cfg;          // control thread; read-only for render threads while they run
   CameraChannel channel;
   WorldChannel world_channel;  // dynamic objects, lights, materials (application side publishes)
+  // Moved instances: the newest top level (null until the first move) and its epoch (1: as
+  // built). The mutex guards the pointer while it is copied, at a pick-up (update percentage or
+  // frame start), never per sample; publishers hold instances_publish across their whole update.
+  mutable std::mutex instances_mutex;
+  std::shared_ptr<const InstanceTop> instances;
+  std::atomic<uint32_t> instances_epoch{1};
+  std::mutex instances_publish;
   uint64_t sample_seed_base = 0;  // scene seed mixed with cfg.seed
 
   // Layout (rebuilt by the control thread while render threads are stopped).
@@ -117,6 +133,8 @@ struct Engine::Impl {
   double frame_time = 0.0;
   uint32_t frame_world_epoch = 0;
   WorldState frame_world;
+  uint32_t frame_instances_epoch = 1;
+  std::shared_ptr<const InstanceTop> frame_instances;  // moved instances (null: as built)
   std::vector<float> frame_world_buf;
   bool frame_stop = false;
   size_t frame_pos = 0;  // deterministic: pixels of the current frame already rendered

@@ -170,7 +170,7 @@ void trace_batch(Engine::Impl& e, PacketBatch& b, const CameraBasis& basis, Dyna
     prepare_samples(e, b.idx[k], b.state[k]->passes.load(std::memory_order_relaxed), u[k]);
     for (int j = 0; j < spu; ++j) px[k * spu + j] = u[k].px[j], py[k * spu + j] = u[k].py[j];
   }
-  if (packets) primary_hits(e.scene, basis, b.n * spu, px, py, hits);
+  if (packets) primary_hits(e.scene, basis, b.n * spu, px, py, hits, world);
   for (int k = 0; k < b.n; ++k) {
     if (world && world_state && world->time != b.t[k])
       advance_frame(e.scene, *world_state, b.t[k], *world);
@@ -190,8 +190,9 @@ inline void log_update(const Engine::Impl& e, FramelessWorker& w, uint32_t idx, 
     ++w.log->overflow;
 }
 
-// Picks up the newest world state (dynamic objects, lights, materials) if it changed.
+// Picks up the newest world state (dynamic objects, lights, materials, moved instances) if it changed.
 void refresh_world(Engine::Impl& e, FramelessWorker& w, double time) {
+  if (e.pick_up_instances(w.instances_epoch, w.frame.instances)) w.moving = true;
   if (e.world_channel.epoch() == w.world_epoch) return;
   const uint32_t ep = e.world_channel.read(w.world_buf);
   // The channel carries only what the engine published after checking it: it always fits.
@@ -306,8 +307,9 @@ void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double
   // A conventional frame sees one instant: its world is evaluated once per frame and thread.
   FramelessWorker& w = e.workers[size_t(t)];
   if (w.frame_serial != e.frame_serial) {
-    w.moving = !e.scene.dynamic.empty() || e.frame_world_epoch > 1;
+    w.moving = !e.scene.dynamic.empty() || e.frame_world_epoch > 1 || e.frame_instances;
     if (w.moving) evaluate_frame(e.scene, e.frame_world, e.frame_time, w.frame);
+    w.frame.instances = e.frame_instances;
     w.frame_serial = e.frame_serial;
   }
   const DynamicFrame* world = w.moving ? &w.frame : nullptr;
@@ -340,6 +342,7 @@ void begin_frame(Engine::Impl& e) {
     e.frame_world_epoch = e.world_channel.read(e.frame_world_buf);
     unpack_world(e.frame_world_buf.data(), e.frame_world_buf.size(), e.frame_world);
   }
+  e.pick_up_instances(e.frame_instances_epoch, e.frame_instances);
   ++e.frame_serial;
 }
 

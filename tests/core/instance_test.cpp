@@ -7,6 +7,7 @@
 
 #include "core/builtin_scenes.h"
 #include "core/instance.h"
+#include "core/instance_top.h"
 #include "core/render_sample.h"
 #include "core/scene_build.h"
 
@@ -121,7 +122,7 @@ TEST(Instance, MirroredAndStretchedInstancesKeepTrueNormals) {
       ASSERT_TRUE(scene_intersect(*s, nullptr, r, hit));
       if (hit.inst == kInvalidId) continue;  // another instance or the floor is in front
       const SurfacePoint sp = scene_surface_point(*s, nullptr, r, hit);
-      const Instance& hi = s->geometry.instances[hit.inst];
+      const Instance& hi = s->accel.instance_top()->instances[hit.inst];
       const Vec3 po = hi.to_object.point(sp.p);
       // The flattened triangle's own normal: world vertices, winding flipped by a mirror.
       const Geometry& mg = s->geometry.instance_meshes[0]->geometry;
