@@ -1,6 +1,6 @@
-// glTF input internals shared by mesh_gltf.cpp (tinygltf, geometry, nodes, cameras, lights),
-// gltf_check.cpp (what tinygltf lets through) and gltf_material.cpp (materials, textures,
-// images); loading thread only.
+// glTF input internals shared by mesh_gltf.cpp (tinygltf, geometry), gltf_instances.cpp (the
+// node tree, instances, cameras, lights), gltf_check.cpp (what tinygltf lets through) and
+// gltf_material.cpp (materials, textures, images); loading thread only.
 #pragma once
 #include <map>
 #include <memory>
@@ -39,6 +39,29 @@ Result<Checked> check_gltf(const std::string& bytes, const std::string& path,
 // images in `embedded` by image index. `checked` and `embedded` must outlive the loads.
 void restrict_loader(tinygltf::TinyGLTF& loader, Checked& checked,
                      std::map<int, std::string>& embedded);
+
+// A node the default scene reaches, with its world matrix (its parents' and its own).
+struct NodeVisit {
+  int node = 0;
+  glm::dmat4 world{1.0};
+  bool invertible = false;  // it has a mesh and an Instance can be made with `world`
+  bool instance = false;    // its mesh is shared (placed by two or more invertible visits)
+};
+
+// The default scene's nodes (else scene 0's, else every node that is no node's child),
+// depth-first in file order. One-line errors: a node or mesh index out of range, a node reached
+// twice (a cycle or two parents), a malformed or non-finite transform, too many instances.
+Result<std::vector<NodeVisit>> walk_nodes(const tinygltf::Model& m, const std::string& path);
+
+// The perspective camera of node n (looking down its -Z, +Y up) into out.cameras; other camera
+// types and invalid ones are skipped with a warning.
+std::optional<Error> add_camera(const tinygltf::Model& m, const std::string& path, int n, int index,
+                                const glm::dmat4& world, ModelData& out);
+
+// KHR_lights_punctual lights (index, node world matrix) into out.lights, scaled by their
+// illuminance at the centre of out.mesh (flat triangles and placed shared meshes).
+void add_lights(const tinygltf::Model& m, const std::vector<std::pair<int, glm::dmat4>>& lights,
+                ModelData& out);
 
 // RFC 3986 percent-decoding ("%20" -> ' '); malformed escapes are kept as written.
 std::string percent_decode(const std::string& uri);

@@ -1,14 +1,12 @@
 // glTF 2.0 input (.gltf with external or data: buffers, .glb by content) through Debian's
-// tinygltf: the default scene's node tree and its transforms, triangle primitives (strips and
-// fans converted), materials (gltf_material.cpp), perspective cameras and KHR_lights_punctual
-// lights. tinygltf checks no index or byte range, so every accessor is bounds-checked here
-// before it is read; gltf_check.cpp covers what tinygltf would misread or let through.
+// tinygltf: triangle primitives (strips and fans converted) placed by the default scene's nodes
+// (gltf_instances.cpp: transforms, instances, cameras, lights): a mesh one node places is copied
+// into the model's flat mesh, a mesh several nodes place is stored once as a shared mesh;
+// materials in gltf_material.cpp. tinygltf checks no index or byte range, so every accessor is
+// bounds-checked here before it is read; gltf_check.cpp covers what tinygltf would misread or
+// let through.
 #include <cmath>
 #include <cstring>
-
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include "core/gltf_internal.h"
 #include "core/scene_build.h"
@@ -19,7 +17,8 @@ namespace {
 using gltf::fail;
 using tinygltf::Model;
 
-// Vertices and triangles per model after instancing: a small file cannot ask for unbounded memory.
+// Vertices and triangles stored per model (shared meshes once, however often they are placed):
+// a small file cannot ask for unbounded memory.
 constexpr size_t kMaxElements = size_t(1) << 27;
 
 std::string str(long long i) { return std::to_string(i); }
@@ -118,31 +117,32 @@ Result<View> accessor_view(const Model& m, int index, const std::string& path) {
   return v;
 }
 
-bool finite_matrix(const glm::dmat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r]) || std::abs(m[c][r]) > 1e30) return false;
-  return true;
-}
+// A mesh being filled: the flattened model (model space) or one shared mesh (object space).
+struct Part {
+  MeshData& mesh;
+  std::vector<uint8_t>& has_normal;  // per vertex: the file gave it a usable normal
+};
 
-Vec3 dir(const glm::dmat4& m, double x, double y, double z) {
-  return Vec3(glm::normalize(glm::dmat3(m) * glm::dvec3(x, y, z)));
-}
+// A glTF mesh stored once as MeshData::shared[index] (kInvalidId: it has no triangles).
+struct SharedMesh {
+  uint32_t index = kInvalidId;
+  size_t skipped = 0;                  // its point/line primitives, counted at each placement
+  Vec3 lo{kInfinity}, hi{-kInfinity};  // its object-space vertex box
+};
 
 class Builder {
  public:
   Builder(const Model& m, const std::string& path, gltf::MaterialMap& materials, ModelData& out)
-      : m_(m), path_(path), materials_(materials), out_(out), mesh_(out.mesh) {}
+      : m_(m), path_(path), materials_(materials), out_(out), flat_{out.mesh, flat_normal_} {}
 
   std::optional<Error> run();
 
  private:
-  Result<glm::dmat4> local_matrix(int n);
-  std::optional<Error> add_mesh(int index, const glm::dmat4& world);
-  std::optional<Error> add_primitive(const tinygltf::Primitive& p, const glm::dmat4& world);
-  std::optional<Error> add_camera(int n, int index, const glm::dmat4& world);
-  void finish_normals();
-  void add_lights();
+  std::optional<Error> add_mesh(int index, const glm::dmat4& world, Part part);
+  std::optional<Error> place_shared(const gltf::NodeVisit& v);
+  std::optional<Error> add_primitive(const tinygltf::Primitive& p, const glm::dmat4& world,
+                                     Part part);
+  void finish_normals(Part part);
   Error err(const std::string& what) const { return fail(path_, what); }
   void warn_once(const std::string& w) {
     if (std::find(out_.warnings.begin(), out_.warnings.end(), w) == out_.warnings.end())
@@ -153,115 +153,102 @@ class Builder {
   const std::string& path_;
   gltf::MaterialMap& materials_;
   ModelData& out_;
-  MeshData& mesh_;
-  std::vector<uint8_t> has_normal_;
+  std::vector<uint8_t> flat_normal_;
+  Part flat_;
+  std::vector<std::vector<uint8_t>> shared_normal_;  // has_normal of each shared mesh
+  std::map<int, SharedMesh> shared_meshes_;          // glTF mesh -> its shared copy
+  size_t vertices_ = 0, triangles_ = 0;              // stored (shared meshes once)
   bool any_normal_ = false, any_uv_ = false;
   size_t skipped_primitives_ = 0;
   std::vector<std::pair<int, glm::dmat4>> lights_;      // KHR_lights_punctual index, node transform
   std::map<std::tuple<int, int, int>, size_t> shared_;  // vertex accessors -> first vertex
 };
 
-Result<glm::dmat4> Builder::local_matrix(int n) {
-  const tinygltf::Node& node = m_.nodes[size_t(n)];
-  const std::string where = "node " + str(n) + ": ";
-  if (!node.matrix.empty()) {
-    if (node.matrix.size() != 16) return err(where + "matrix needs 16 numbers");
-    return glm::make_mat4(node.matrix.data());  // column-major in glTF and GLM
-  }
-  glm::dmat4 t(1.0);
-  if (!node.translation.empty()) {
-    if (node.translation.size() != 3) return err(where + "translation needs 3 numbers");
-    t = glm::translate(t, glm::make_vec3(node.translation.data()));
-  }
-  if (!node.rotation.empty()) {
-    if (node.rotation.size() != 4) return err(where + "rotation needs 4 numbers");
-    const auto& r = node.rotation;  // x, y, z, w
-    glm::dquat q(r[3], r[0], r[1], r[2]);
-    const double len = glm::length(q);
-    if (!(len > 1e-12) || !std::isfinite(len))
-      return err(where + "rotation is not a unit quaternion");
-    t *= glm::mat4_cast(q / len);
-  }
-  if (!node.scale.empty()) {
-    if (node.scale.size() != 3) return err(where + "scale needs 3 numbers");
-    t = glm::scale(t, glm::make_vec3(node.scale.data()));
-  }
-  return t;
-}
-
 std::optional<Error> Builder::run() {
-  // The default scene, else scene 0, else (no scenes at all) every node that is no node's child.
-  std::vector<int> roots;
-  if (m_.defaultScene >= 0 && !m_.scenes.empty()) {
-    if (size_t(m_.defaultScene) >= m_.scenes.size())
-      return err("scene " + str(m_.defaultScene) + " out of range (" + str(m_.scenes.size()) +
-                 " scenes)");
-    roots = m_.scenes[size_t(m_.defaultScene)].nodes;
-  } else if (!m_.scenes.empty()) {
-    roots = m_.scenes[0].nodes;
-  } else {
-    std::vector<uint8_t> is_child(m_.nodes.size(), 0);
-    for (const tinygltf::Node& node : m_.nodes)
-      for (int c : node.children)
-        if (c >= 0 && size_t(c) < m_.nodes.size()) is_child[size_t(c)] = 1;
-    for (size_t i = 0; i < m_.nodes.size(); ++i)
-      if (!is_child[i]) roots.push_back(int(i));
-  }
-  // Depth-first with an explicit stack (no recursion to overflow); a node met twice means a cycle
-  // or a node with two parents, which glTF forbids.
-  std::vector<uint8_t> seen(m_.nodes.size(), 0);
-  std::vector<std::pair<int, glm::dmat4>> stack;
-  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
-  while (!stack.empty()) {
-    const auto [n, parent] = stack.back();
-    stack.pop_back();
-    if (n < 0 || size_t(n) >= m_.nodes.size())
-      return err("node " + str(n) + " out of range (" + str(m_.nodes.size()) + " nodes)");
-    if (seen[size_t(n)])
-      return err("node " + str(n) +
-                 ": reached twice (a cycle in the node hierarchy, or two parents)");
-    seen[size_t(n)] = 1;
-    const tinygltf::Node& node = m_.nodes[size_t(n)];
-    auto local = local_matrix(n);
-    if (!local) return local.error();
-    const glm::dmat4 world = parent * *local;
-    if (!finite_matrix(world)) return err("node " + str(n) + ": transform is not finite");
+  auto visits = gltf::walk_nodes(m_, path_);
+  if (!visits) return visits.error();
+  for (const gltf::NodeVisit& v : *visits) {
+    const tinygltf::Node& node = m_.nodes[size_t(v.node)];
     if (node.skin >= 0) warn_once("skins are ignored (meshes are shown in their bind pose)");
     if (node.mesh >= 0)
-      if (auto e = add_mesh(node.mesh, world)) return e;
+      if (auto e = v.instance ? place_shared(v) : add_mesh(node.mesh, v.world, flat_)) return e;
     if (node.camera >= 0)
-      if (auto e = add_camera(n, node.camera, world)) return e;
+      if (auto e = gltf::add_camera(m_, path_, v.node, node.camera, v.world, out_)) return e;
     const auto ext = node.extensions.find("KHR_lights_punctual");
     if (ext != node.extensions.end() && ext->second.Has("light")) {
       const tinygltf::Value& l = ext->second.Get("light");
       if (!l.IsInt() || l.GetNumberAsInt() < 0 || size_t(l.GetNumberAsInt()) >= m_.lights.size())
-        return err("node " + str(n) + ": light out of range (" + str(m_.lights.size()) +
+        return err("node " + str(v.node) + ": light out of range (" + str(m_.lights.size()) +
                    " lights)");
-      lights_.emplace_back(l.GetNumberAsInt(), world);
+      lights_.emplace_back(l.GetNumberAsInt(), v.world);
     }
-    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
-      stack.emplace_back(*it, world);
   }
   if (skipped_primitives_ > 0)
     out_.warnings.push_back(str(skipped_primitives_) +
                             " point/line primitive(s) skipped: only triangles are rendered");
-  if (mesh_.triangles.empty()) return err("no triangles in the scene");
-  finish_normals();
-  if (!any_uv_) mesh_.uvs.clear();
-  add_lights();
+  MeshData& model = out_.mesh;
+  if (model.triangles.empty() && model.placements.empty()) return err("no triangles in the scene");
+  finish_normals(flat_);
+  for (size_t i = 0; i < model.shared.size(); ++i)
+    finish_normals({model.shared[i], shared_normal_[i]});
+  if (!any_uv_) {
+    model.uvs.clear();
+    for (MeshData& s : model.shared) s.uvs.clear();
+  }
+  gltf::add_lights(m_, lights_, out_);
   return std::nullopt;
 }
 
-std::optional<Error> Builder::add_mesh(int index, const glm::dmat4& world) {
-  if (size_t(index) >= m_.meshes.size())
-    return err("mesh " + str(index) + " out of range (" + str(m_.meshes.size()) + " meshes)");
+std::optional<Error> Builder::add_mesh(int index, const glm::dmat4& world, Part part) {
   shared_.clear();
   for (const tinygltf::Primitive& p : m_.meshes[size_t(index)].primitives)
-    if (auto e = add_primitive(p, world)) return e;
+    if (auto e = add_primitive(p, world, part)) return e;
   return std::nullopt;
 }
 
-std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const glm::dmat4& world) {
+// A placement of a shared mesh: the mesh is built in object space on its first placement, then
+// every placement adds its node's world matrix.
+std::optional<Error> Builder::place_shared(const gltf::NodeVisit& v) {
+  const int index = m_.nodes[size_t(v.node)].mesh;
+  MeshData& model = out_.mesh;
+  auto [it, fresh] = shared_meshes_.try_emplace(index);
+  SharedMesh& sm = it->second;
+  if (fresh) {
+    model.shared.emplace_back();
+    shared_normal_.emplace_back();
+    const size_t skipped = skipped_primitives_;
+    if (auto e = add_mesh(index, glm::dmat4(1.0), {model.shared.back(), shared_normal_.back()}))
+      return e;
+    sm.skipped = skipped_primitives_ - skipped;
+    if (model.shared.back().triangles.empty()) {
+      model.shared.pop_back();  // nothing to place
+      shared_normal_.pop_back();
+      return std::nullopt;
+    }
+    sm.index = uint32_t(model.shared.size() - 1);
+    for (const Vec3& p : model.shared.back().positions) {
+      sm.lo = glm::min(sm.lo, p);
+      sm.hi = glm::max(sm.hi, p);
+    }
+  } else {
+    skipped_primitives_ += sm.skipped;
+  }
+  if (sm.index == kInvalidId) return std::nullopt;
+  // The placed box holds every placed vertex: its corners stand for them in the check that
+  // flattened vertices get.
+  const glm::mat4 to_model(v.world);
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 c(k & 1 ? sm.hi.x : sm.lo.x, k & 2 ? sm.hi.y : sm.lo.y, k & 4 ? sm.hi.z : sm.lo.z);
+    if (!is_finite(Vec3(to_model * Vec4(c, 1.0f))))
+      return err("node " + str(v.node) + ": position is not finite after the node transform");
+  }
+  model.placements.push_back({sm.index, to_model});
+  return std::nullopt;
+}
+
+std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const glm::dmat4& world,
+                                            Part part) {
+  MeshData& mesh = part.mesh;
   const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
   if (mode < TINYGLTF_MODE_TRIANGLES) {
     ++skipped_primitives_;
@@ -323,7 +310,8 @@ std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const 
   auto material = materials_.get(p.material);
   if (!material) return material.error();
 
-  // Vertices, in model space after the node transform; normals by the inverse transpose.
+  // Vertices after the node transform (model space; identity for a shared mesh's object space);
+  // normals by the inverse transpose.
   const glm::mat4 mp(world);
   const glm::mat3 mn(glm::transpose(glm::inverse(glm::dmat3(world))));
   const bool flip = glm::determinant(glm::dmat3(world)) < 0.0;
@@ -333,16 +321,17 @@ std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const 
     return it == p.attributes.end() ? -1 : it->second;
   };
   const auto [slot, fresh] = shared_.try_emplace(
-      {pos_it->second, attribute("NORMAL"), attribute("TEXCOORD_0")}, mesh_.positions.size());
+      {pos_it->second, attribute("NORMAL"), attribute("TEXCOORD_0")}, mesh.positions.size());
   const size_t base = slot->second;
-  if (fresh && mesh_.positions.size() + nv > kMaxElements)
+  if (fresh && vertices_ + nv > kMaxElements)
     return err("more than " + str(kMaxElements) + " vertices");
+  if (fresh) vertices_ += nv;
   for (size_t i = 0; fresh && i < nv; ++i) {
     const Vec3 x(pos->get<float>(i, 0), pos->get<float>(i, 1), pos->get<float>(i, 2));
     if (!is_finite(x)) return err(where + "non-finite value");
     const Vec3 y(mp * Vec4(x, 1.0f));
     if (!is_finite(y)) return err(where + "position is not finite after the node transform");
-    mesh_.positions.push_back(y);
+    mesh.positions.push_back(y);
     Vec3 n(0.0f);
     if (nrm) {
       n = Vec3(nrm->get<float>(i, 0), nrm->get<float>(i, 1), nrm->get<float>(i, 2));
@@ -351,8 +340,8 @@ std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const 
       const float len = glm::length(n);
       n = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f);
     }
-    mesh_.normals.push_back(n);
-    has_normal_.push_back(n != Vec3(0.0f));
+    mesh.normals.push_back(n);
+    part.has_normal.push_back(n != Vec3(0.0f));
     any_normal_ = any_normal_ || n != Vec3(0.0f);
     Vec2 t(0.0f);
     if (uv) {
@@ -362,19 +351,19 @@ std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const 
       t.y = 1.0f - t.y;  // glTF's v runs down the image; ours (sample_texture) runs up
       any_uv_ = true;
     }
-    mesh_.uvs.push_back(t);
+    mesh.uvs.push_back(t);
   }
 
   // Triangles; strips alternate winding, fans pivot on their first vertex.
   const size_t n = p.indices >= 0 ? indices.size() : nv;
-  if (mesh_.triangles.size() + n > kMaxElements)
-    return err("more than " + str(kMaxElements) + " triangles");
+  if (triangles_ + n > kMaxElements) return err("more than " + str(kMaxElements) + " triangles");
   auto at = [&](size_t i) { return p.indices >= 0 ? indices[i] : uint32_t(i); };
   auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
     if (a == b || b == c || a == c) return;  // strip restarts and degenerate input
     if (flip) std::swap(b, c);               // a mirroring transform reverses the winding
-    mesh_.triangles.emplace_back(uint32_t(base) + a, uint32_t(base) + b, uint32_t(base) + c);
-    mesh_.face_material.push_back(*material);
+    mesh.triangles.emplace_back(uint32_t(base) + a, uint32_t(base) + b, uint32_t(base) + c);
+    mesh.face_material.push_back(*material);
+    ++triangles_;
   };
   if (mode == TINYGLTF_MODE_TRIANGLES) {
     for (size_t i = 0; i + 2 < n; i += 3) emit(at(i), at(i + 1), at(i + 2));
@@ -387,103 +376,32 @@ std::optional<Error> Builder::add_primitive(const tinygltf::Primitive& p, const 
   return std::nullopt;
 }
 
-std::optional<Error> Builder::add_camera(int n, int index, const glm::dmat4& world) {
-  if (size_t(index) >= m_.cameras.size())
-    return err("node " + str(n) + ": camera " + str(index) + " out of range (" +
-               str(m_.cameras.size()) + " cameras)");
-  const tinygltf::Camera& c = m_.cameras[size_t(index)];
-  if (c.type != "perspective") {
-    out_.warnings.push_back("camera " + str(index) + ": " + (c.type.empty() ? "untyped" : c.type) +
-                            " cameras are not supported (skipped)");
-    return std::nullopt;
-  }
-  // The camera looks down its node's -Z with +Y up.
-  Camera cam;
-  cam.eye = Vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-  cam.look = cam.eye + dir(world, 0.0, 0.0, -1.0);
-  cam.up = dir(world, 0.0, 1.0, 0.0);
-  cam.fov_deg = float(glm::degrees(c.perspective.yfov));
-  if (!camera_is_valid(cam)) {
-    out_.warnings.push_back("camera " + str(index) + ": invalid yfov or transform (skipped)");
-    return std::nullopt;
-  }
-  out_.cameras.push_back(cam);
-  return std::nullopt;
-}
-
-// Vertices without a usable normal: none anywhere keeps the geometric normal everywhere; a mix
-// gives the triangles that touch such a vertex their own vertices with the face normal (flat,
-// as glTF asks for primitives without normals).
-void Builder::finish_normals() {
+// Vertices without a usable normal: none anywhere in the model keeps the geometric normal
+// everywhere; a mix gives the triangles that touch such a vertex their own vertices with the face
+// normal (flat, as glTF asks for primitives without normals). Each part on its own.
+void Builder::finish_normals(Part part) {
+  MeshData& mesh = part.mesh;
   if (!any_normal_) {
-    mesh_.normals.clear();
+    mesh.normals.clear();
     return;
   }
-  const size_t nv = mesh_.positions.size();
-  for (UVec3& t : mesh_.triangles) {
-    if (has_normal_[t[0]] && has_normal_[t[1]] && has_normal_[t[2]]) continue;
-    const Vec3 c = glm::cross(mesh_.positions[t[1]] - mesh_.positions[t[0]],
-                              mesh_.positions[t[2]] - mesh_.positions[t[0]]);
+  const size_t nv = mesh.positions.size();
+  for (UVec3& t : mesh.triangles) {
+    if (part.has_normal[t[0]] && part.has_normal[t[1]] && part.has_normal[t[2]]) continue;
+    const Vec3 c = glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]],
+                              mesh.positions[t[2]] - mesh.positions[t[0]]);
     const float len = glm::length(c);
     const Vec3 fn = len > 0.0f && std::isfinite(len) ? c / len : Vec3(0.0f, 0.0f, 1.0f);
     for (int k = 0; k < 3; ++k) {
-      mesh_.positions.push_back(mesh_.positions[t[k]]);
-      mesh_.uvs.push_back(mesh_.uvs[t[k]]);
-      mesh_.normals.push_back(fn);
-      t[k] = uint32_t(mesh_.positions.size() - 1);
+      mesh.positions.push_back(mesh.positions[t[k]]);
+      mesh.uvs.push_back(mesh.uvs[t[k]]);
+      mesh.normals.push_back(fn);
+      t[k] = uint32_t(mesh.positions.size() - 1);
     }
   }
   // Vertices left without a normal are no longer used; give them a harmless unit one.
   for (size_t i = 0; i < nv; ++i)
-    if (!has_normal_[i]) mesh_.normals[i] = Vec3(0.0f, 0.0f, 1.0f);
-}
-
-// KHR_lights_punctual carries physical units: point and spot intensity in candela (lm/sr, falling
-// off as 1/d^2), directional in lux. Parker's lights have no falloff, so each light's illuminance
-// is taken at the model's bounding-box centre (point: I/d^2, directional: I) and all lights are
-// scaled together so the brightest gets illuminance 1: colour = glTF colour * E / E_max. Relative
-// brightness is kept; lights of intensity 0 are dropped; spot cones and range are ignored.
-void Builder::add_lights() {
-  Vec3 lo(kInfinity), hi(-kInfinity);
-  for (const Vec3& p : mesh_.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  const Vec3 centre = 0.5f * (lo + hi);
-  const double min_dist = std::max(1e-3 * double(glm::length(hi - lo)), 1e-6);
-  std::vector<std::pair<Light, double>> lit;
-  double e_max = 0.0;
-  for (const auto& [index, world] : lights_) {
-    const tinygltf::Light& g = m_.lights[size_t(index)];
-    const std::string where = "light " + str(index) + ": ";
-    Light l;
-    if (g.color.size() == 3)
-      l.color =
-          glm::clamp(Vec3(float(g.color[0]), float(g.color[1]), float(g.color[2])), 0.0f, 1.0f);
-    else if (!g.color.empty())
-      out_.warnings.push_back(where + "color needs 3 numbers (white used)");
-    double e = std::isfinite(g.intensity) ? std::max(g.intensity, 0.0) : 0.0;
-    if (g.type == "directional") {
-      l.kind = LightKind::kDirectional;
-      l.direction = dir(world, 0.0, 0.0, -1.0);
-    } else if (g.type == "point" || g.type == "spot") {
-      l.position = Vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-      e /= std::pow(std::max(double(glm::length(l.position - centre)), min_dist), 2.0);
-      if (g.type == "spot")
-        out_.warnings.push_back("spot light " + str(index) + " treated as a point light");
-    } else {
-      out_.warnings.push_back(where + "type '" + g.type + "' is not supported (skipped)");
-      continue;
-    }
-    if (!(e > 0.0) || !std::isfinite(e) || !is_finite(l.position) || !is_finite(l.direction))
-      continue;
-    e_max = std::max(e_max, e);
-    lit.emplace_back(l, e);
-  }
-  for (auto& [l, e] : lit) {
-    l.color *= float(e / e_max);
-    out_.lights.push_back(l);
-  }
+    if (!part.has_normal[i]) mesh.normals[i] = Vec3(0.0f, 0.0f, 1.0f);
 }
 
 }  // namespace

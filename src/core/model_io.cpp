@@ -1,4 +1,5 @@
-// Model files by extension for JSON scenes: PLY, OBJ (with MTL when named), glTF/GLB.
+// Model files by extension for JSON scenes: PLY, OBJ (with MTL when named), glTF/GLB (with its
+// shared meshes and their placements: add_mesh copies or instances them).
 #include "core/scene_build.h"
 #include "core/scene_io.h"
 

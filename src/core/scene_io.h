@@ -19,6 +19,12 @@ Result<std::unique_ptr<Scene>> load_scene(const std::string& spec);
 Result<std::unique_ptr<Scene>> load_scene_json(const std::string& path);
 Result<std::unique_ptr<Scene>> parse_scene_json(const std::string& text, const std::string& path,
                                                 const std::string& base_dir);
+// One placement of a shared mesh of a model: model space = to_model * the mesh's object space.
+struct MeshPlacement {
+  uint32_t mesh = 0;  // index into MeshData::shared
+  glm::mat4 to_model{1.0f};
+};
+
 // A mesh as read from a file. Files that carry materials (OBJ+MTL, glTF) fill `materials`
 // (their texture slots index `textures`) and give each triangle one of them in face_material;
 // add_mesh maps both into the scene. Otherwise the caller's material applies to every face.
@@ -30,6 +36,12 @@ struct MeshData {
   std::vector<uint16_t> face_material;  // empty, or one index into materials per triangle
   std::vector<Material> materials;
   std::vector<Texture> textures;
+  // Meshes the file places more than once (glTF meshes that two or more nodes reference), each
+  // stored once in its own object space with the same invariants as above, except that their
+  // face_material indexes this mesh's `materials` (their own materials and textures stay
+  // empty). add_mesh copies them per placement, or places one shared InstancedMesh each.
+  std::vector<MeshData> shared;
+  std::vector<MeshPlacement> placements;
 };
 
 // What a model file brings besides its mesh (glTF): its cameras and lights, in model space

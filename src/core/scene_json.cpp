@@ -265,7 +265,7 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
   } else if (type == "mesh") {
     // OBJ (with its MTL materials when it names one), PLY, glTF or GLB; "material" overrides
     // the file's own materials and is required when the file has none.
-    check_keys(o, f, {"type", "file", "transform", "material"});
+    check_keys(o, f, {"type", "file", "transform", "material", "instancing"});
     const std::string file = get_string(need(o, f, "file"), f + ".file");
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
     const std::string full = !file.empty() && file[0] == '/' ? file : ctx.base_dir + "/" + file;
@@ -274,7 +274,11 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     check_mesh_size(s, mesh->positions.size(), f + ".file");
     const bool override_material = o.contains("material") || mesh->materials.empty();
     const uint16_t mat = override_material ? object_material(o, f, ctx, m) : 0;
-    add_mesh(s, *mesh, m, mat, override_material);
+    // glTF meshes that several nodes place become instances, except under "meshes" (an instance
+    // holds no instances) or when the object asks for copies.
+    const bool instancing = f.rfind("meshes.", 0) != 0 &&
+                            (!o.contains("instancing") || get_bool(o["instancing"], f + ".instancing"));
+    add_mesh(s, *mesh, m, mat, override_material, instancing);
   } else if (type == "triangles") {
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
     parse_triangles(o, f, ctx, object_material(o, f, ctx, m), m);
