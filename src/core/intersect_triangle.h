@@ -68,7 +68,7 @@ inline bool intersect_triangle(const TriangleRay& r, const Vec3& p0, const Vec3&
   // negation is exact, so this equals comparing tt with tmin * det and tmax * det).
   const float adet = std::abs(det);
   const float stt = det < 0.0f ? -tt : tt;
-  const bool in_range = (stt >= mul_exact(tmin, adet)) & (stt <= mul_exact(tmax, adet));
+  const bool in_range = int(stt >= mul_exact(tmin, adet)) & int(stt <= mul_exact(tmax, adet));
   if (!(!(has_neg & has_pos) & (det != 0.0f) & in_range)) return false;
   const float inv = 1.0f / det;
   t = mul_exact(tt, inv);

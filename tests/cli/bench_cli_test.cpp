@@ -21,8 +21,10 @@ TEST(BenchCli, EngineJsonHasTheNamedKeys) {
     ASSERT_TRUE(j.contains(k)) << k;
   EXPECT_GT(j["frameless_samples_per_s"].get<double>(), 0.0);
   EXPECT_GT(j["conventional_samples_per_s"].get<double>(), 0.0);
+  // A fraction of one core (0 when no display tick ended inside the short window: a loaded
+  // machine or a sanitizer build; speed is the benchmark's business, not this test's).
   const double cpu = j["display_cpu_fraction"].get<double>();
-  EXPECT_GT(cpu, 0.0);
+  EXPECT_GE(cpu, 0.0);
   EXPECT_LT(cpu, 1.0);
   const auto& l = j["latency_ms"];
   const double p50 = l["p50"].get<double>(), p95 = l["p95"].get<double>(),
