@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the scene_fuzzer seeds for the glTF, GLB, MTL, PNG and textured-scene parsers into
+"""Writes the scene_fuzzer seeds for the glTF (flat and instanced), GLB, MTL, PNG and textured-scene parsers into
 tests/fuzz/corpus/ (run from anywhere: python3 tests/fuzz/make_seeds.py). Each seed is one fuzzer
 input: the selector byte of scene_fuzzer.cpp, then the parser's bytes. Standard library only (no
 PIL): PNGs are written with zlib by hand.
@@ -89,7 +89,7 @@ def triangle_buffer():
     return b
 
 
-def gltf_text():
+def gltf_text(instanced=False):
     buf = triangle_buffer()
     tex_png = png_palette_trns_2x2()
     doc = {
@@ -137,6 +137,10 @@ def gltf_text():
             {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"},
             {"bufferView": 3, "componentType": 5123, "count": 3, "type": "SCALAR"}],
     }
+    if instanced:  # the mesh placed by two more nodes (one mirrored): a shared mesh, 3 instances
+        doc["nodes"][0]["children"] = [1, 2, 5, 6]
+        doc["nodes"] += [{"translation": [3, 0, 0], "scale": [-1, 1, 1], "mesh": 0},
+                         {"rotation": [0, 0.70710678, 0, 0.70710678], "mesh": 0}]
     return json.dumps(doc, separators=(",", ":")).encode()
 
 
@@ -239,6 +243,7 @@ def scene_textures():
 def main():
     seeds = {
         "gltf_triangle": bytes([GLTF]) + gltf_text(),
+        "gltf_instanced": bytes([GLTF]) + gltf_text(instanced=True),
         "glb_strip_texture": bytes([GLB]) + glb(),
         "mtl_materials": bytes([MTL]) + MTL_TEXT,
         # Image seeds: the second byte picks the magic the fuzzer puts back (0: PNG).

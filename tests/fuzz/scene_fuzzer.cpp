@@ -150,6 +150,18 @@ void check_mesh(const MeshData& m) {
   }
   for (const Texture& t : m.textures)
     if (t.kind == TextureKind::kImage && !t.image) broken("image texture without an image", "");
+  // Shared meshes (glTF meshes several nodes place): each valid on its own, with the model's
+  // materials, and every placement naming one with an invertible, finite transform.
+  for (const MeshData& sm : m.shared) {
+    check_mesh(sm);
+    for (uint16_t f : sm.face_material)
+      if (f >= m.materials.size()) broken("shared mesh face_material out of range", std::to_string(f));
+  }
+  for (const MeshPlacement& p : m.placements) {
+    if (p.mesh >= m.shared.size()) broken("placement of a shared mesh out of range", std::to_string(p.mesh));
+    for (int c = 0; c < 4; ++c)
+      if (!finite(Vec3(p.to_model[c]))) broken("placement transform is not finite", "");
+  }
 }
 
 // A mesh that loaded is shown the way `frameless MESH` shows it.
