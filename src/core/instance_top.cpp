@@ -12,6 +12,7 @@
 #include "core/accel_impl.h"
 #include "core/bvh_build.h"
 #include "core/instance.h"
+#include "core/scene.h"
 
 namespace frameless {
 namespace {
@@ -187,6 +188,17 @@ Result<std::shared_ptr<InstanceTop>> move_instances(const InstanceTop& from,
   }
   if (info) *info = u;
   return top;
+}
+
+std::vector<InstanceMove> instance_moves_at(const Scene& scene, double t) {
+  std::vector<InstanceMove> moves;
+  moves.reserve(scene.instance_motions.size());
+  for (const InstanceMotion& m : scene.instance_motions) {
+    Affine a = scene.geometry.instances.at(m.index).to_world;
+    a.t += motion_offset(m.motion, t);
+    moves.push_back({m.index, a});
+  }
+  return moves;
 }
 
 bool intersect_instances(const InstanceTop& top, const Ray& ray, Hit& hit, bool found) {

@@ -15,6 +15,7 @@
 namespace frameless {
 
 struct InstancedMesh;
+struct Scene;
 using MeshList = std::vector<std::shared_ptr<InstancedMesh>>;
 
 struct InstanceTop {
@@ -56,6 +57,10 @@ Result<std::shared_ptr<InstanceTop>> move_instances(const InstanceTop& from,
                                                     const std::vector<InstanceMove>& moves,
                                                     const AccelConfig& config = {},
                                                     InstanceUpdate* info = nullptr);
+
+// The moves that put the scene's animated instances (Scene::instance_motions) where their
+// motions have them at time t (empty when none moves).
+std::vector<InstanceMove> instance_moves_at(const Scene& scene, double t);
 
 // Closest hit on the instances within hit (found: hit already holds a closer-or-equal candidate
 // from flat geometry); hit.inst is the position in top.instances.

@@ -213,16 +213,8 @@ uint32_t Engine::move_instances(const std::vector<InstanceMove>& moves, Instance
 }
 
 uint32_t Engine::animate_instances(double t, InstanceUpdate* info) {
-  const Scene& s = impl_->scene;
-  if (s.instance_motions.empty()) return 0;
-  std::vector<InstanceMove> moves;
-  moves.reserve(s.instance_motions.size());
-  for (const InstanceMotion& m : s.instance_motions) {
-    Affine a = s.geometry.instances.at(m.index).to_world;
-    a.t += motion_offset(m.motion, t);
-    moves.push_back({m.index, a});
-  }
-  return move_instances(moves, info);
+  if (impl_->scene.instance_motions.empty()) return 0;
+  return move_instances(instance_moves_at(impl_->scene, t), info);
 }
 
 uint32_t Engine::instances_epoch() const { return impl_->instances_epoch.load(std::memory_order_acquire); }

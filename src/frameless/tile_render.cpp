@@ -7,6 +7,7 @@
 #include <chrono>
 #include <thread>
 
+#include "core/instance_top.h"
 #include "core/render_sample.h"
 
 namespace frameless {
@@ -59,9 +60,13 @@ RenderedImage render_tiles(const Scene& scene, const CameraBasis& camera,
   // Moving objects sit where they are at o.time; one read-only frame serves every worker.
   DynamicFrame frame;
   const DynamicFrame* frame_ptr = nullptr;
-  if (!scene.dynamic.empty()) {
+  if (!scene.dynamic.empty() || !scene.instance_motions.empty()) {
     evaluate_frame(scene, initial_world(scene), o.time, frame);
     frame_ptr = &frame;
+  }
+  if (!scene.instance_motions.empty()) {  // animated instances too, in a top level of their own
+    auto moved = move_instances(*scene.accel.instance_top(), instance_moves_at(scene, o.time));
+    if (moved) frame.instances = std::move(*moved);  // motions are finite offsets: always ok
   }
   RenderedImage img;
   img.width = camera.width;

@@ -7,6 +7,7 @@
 
 #include "core/scene_io.h"
 #include "frameless/engine.h"
+#include "frameless/tile_render.h"
 
 namespace frameless {
 namespace {
@@ -112,6 +113,21 @@ TEST(InstanceMotionEngine, AnimatedInstancesFollowTheirMotion) {
   EXPECT_EQ(e.animate_instances(0.25), 2u);
   EXPECT_FLOAT_EQ(e.instance_transform(1).t.x, 0.5f);
   EXPECT_FLOAT_EQ(e.instance_transform(0).t.x, -2.0f);  // no motion: stays
+}
+
+TEST(InstanceMotionEngine, RenderAtATimePlacesAnimatedInstances) {
+  // `frameless render --time 0.5`: the keyframed instance has moved by 1 along x.
+  auto animated = load(0.0f, true), there = load(1.0f);
+  ASSERT_TRUE(animated && there);
+  TileRenderOptions o;
+  o.spp = 1;
+  o.threads = 2;
+  o.time = 0.5;
+  const CameraBasis b = make_camera_basis(animated->camera, 40, 30);
+  const RenderedImage moved = render_tiles(*animated, b, o);
+  EXPECT_EQ(moved.rgb, render_tiles(*there, b, o).rgb);
+  o.time = 0.0;  // and at time 0 it is still where it was declared
+  EXPECT_NE(render_tiles(*animated, b, o).rgb, moved.rgb);
 }
 
 }  // namespace
