@@ -111,38 +111,13 @@ void time_accel_build(const Geometry& g, const AccelConfig& config, Best& best) 
 // Our tree over g as Accel::build makes it (the same primitive references), for its quality and
 // the serial/parallel comparison.
 Bvh8 build_tree(const Geometry& g, const AccelConfig& config) {
-  Geometry c = g;
-  if (c.num_triangles() == 0 && c.num_patches() == 0)
+  if (g.num_triangles() == 0 && g.num_patches() == 0) {
+    Geometry c = g;  // the sphere build sorts in place
     return build_bvh8_spheres(c.spheres, c.sphere_material, config);
-  const uint32_t nt = c.num_triangles(), ns = c.num_spheres(), np = c.num_patches();
-  std::vector<PrimRef> refs(size_t(nt) + ns + np);
-  for (uint32_t i = 0; i < nt; ++i) {
-    const UVec3 t = c.triangles[i];
-    PrimRef& r = refs[i];
-    r.id = i;
-    if (t.x < c.positions.size() && t.y < c.positions.size() && t.z < c.positions.size()) {
-      const Vec3 &a = c.positions[t.x], &b = c.positions[t.y], &d = c.positions[t.z];
-      r.lo = glm::min(a, glm::min(b, d));
-      r.hi = glm::max(a, glm::max(b, d));
-    }
-    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
   }
-  for (uint32_t i = 0; i < ns; ++i) {
-    const Sphere& s = c.spheres[i];
-    PrimRef& r = refs[nt + i];
-    r.id = nt + i;
-    r.lo = s.center - Vec3(std::abs(s.radius));
-    r.hi = s.center + Vec3(std::abs(s.radius));
-    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-  }
-  for (uint32_t i = 0; i < np; ++i) {
-    PrimRef& r = refs[size_t(nt) + ns + i];
-    r.id = nt + ns + i;
-    r.lo = c.patches[i].lo();
-    r.hi = c.patches[i].hi();
-    if (!is_finite(r.lo) || !is_finite(r.hi)) r.lo = r.hi = Vec3(0.0f);
-  }
-  return build_bvh8(refs, nt, config, nt + ns);
+  const uint32_t nt = g.num_triangles(), ns = g.num_spheres();
+  PrimRefArray refs = make_prim_refs(g, config);
+  return build_bvh8(refs.data(), refs.size(), nt, config, nt + ns);
 }
 
 // Surface-area cost of an 8-wide tree relative to its root box: over nodes, area(node) /
