@@ -197,11 +197,7 @@ uint32_t Engine::world_epoch() const { return impl_->world_channel.epoch(); }
 uint32_t Engine::move_instances(const std::vector<InstanceMove>& moves, InstanceUpdate* info) {
   Impl& e = *impl_;
   std::lock_guard<std::mutex> publishing(e.instances_publish);
-  std::shared_ptr<const InstanceTop> from;
-  {
-    std::lock_guard<std::mutex> lock(e.instances_mutex);
-    from = e.instances ? e.instances : e.scene.accel.instance_top();
-  }
+  const std::shared_ptr<const InstanceTop> from = instance_top();  // the newest: moves build on it
   if (!from) throw std::invalid_argument("move_instances: the scene has no instances");
   auto moved = frameless::move_instances(*from, moves, AccelConfig{}, info);
   if (!moved) throw std::invalid_argument("move_instances: " + moved.error().message);
