@@ -110,7 +110,9 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   d.stop();
   e.stop();
-  const double wall = std::max(1e-9, s1.wall_seconds - s0.wall_seconds);
+  // Between tick ends, so the window holds exactly the ticks whose CPU time it counts (a window
+  // between stats() calls could count a tick that began before it: a fraction above one).
+  const double wall = std::max(1e-9, s1.tick_end_seconds - s0.tick_end_seconds);
   const double updates = double(s1.pixels_updated - s0.pixels_updated);
   DisplayCost r;
   r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;

@@ -426,6 +426,7 @@ void DisplayThread::Impl::thread_main() {
       std::lock_guard<std::mutex> lock(stats_mutex);
       stats.ticks = tick_index;
       stats.cpu_seconds = cpu;
+      stats.tick_end_seconds = wall();
       stats.pixels_updated = pixels_updated;
       if (!first) {
         intervals.push_back(interval);

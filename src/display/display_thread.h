@@ -30,6 +30,7 @@ struct DisplayStats {
   double cpu_seconds = 0;         // display-thread CPU time (CLOCK_THREAD_CPUTIME_ID) in ticks
   uint64_t pixels_updated = 0;    // pixel updates blended since start (sum of FrameInfo::pixels_updated)
   double wall_seconds = 0;        // wall time since start
+  double tick_end_seconds = 0;    // wall time (since start) when the last counted tick ended
   uint64_t rejected = 0;          // non-finite values stopped before the image
 };
 
