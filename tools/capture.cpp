@@ -1,11 +1,14 @@
 // `frameless capture`: headless (OSMesa) capture of what a frameless display shows over time,
 // as an OpenEXR sequence + manifest.json + contact sheet (+ MP4 with ffmpeg). Main thread.
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <sstream>
 
 #include "core/scene_io.h"
 #include "display/capture.h"
+#include "tools/cluster_join.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 #include "tools/engine_flags.h"
@@ -41,6 +44,9 @@ std::vector<std::string> split(const std::string& text) {
   return out;
 }
 
+std::atomic<bool> g_cancel{false};
+extern "C" void on_stop_signal(int) { g_cancel.store(true, std::memory_order_relaxed); }
+
 int run(const CaptureArgs& a) {
   CaptureOptions o;
   o.out_dir = a.out;
@@ -62,13 +68,34 @@ int run(const CaptureArgs& a) {
   for (const std::string& v : o.views) e.track_variance |= v == "variance";
   o.blend.converge = !a.no_converge;
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
-  // The output folder is checked before the scene is even loaded: a bad --out fails at once.
-  if (auto d = prepare_output_dir(o.out_dir); !d.ok()) return report_error(d.error().message);
-
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
-  if (!scene) return 2;
-  o.camera = scene->camera;
-  if (!a.camera.apply(o.camera, error)) return report_error(error);
+  ClusterJoin cluster;
+  if (!cluster.start(error)) return report_error(error);
+  std::string load_error;
+  std::unique_ptr<Scene> scene;
+  // The output folder is checked before the scene is even loaded: a bad --out fails at once
+  // (only where the outputs go: a single process or the cluster master).
+  if (!quiet_rank())
+    if (auto d = prepare_output_dir(o.out_dir); !d.ok()) load_error = d.error().message;
+  if (load_error.empty()) scene = load_scene_checked(a.scene, &a.shadows, load_error);
+  if (scene) {
+    o.camera = scene->camera;
+    if (!a.camera.apply(o.camera, load_error)) scene.reset();
+  }
+  if (int code = cluster.join(scene.get(), load_error, e, o.camera); code >= 0) return code;
+  if (cluster.master()) {
+    o.engine_hook = [&](Engine* engine) {
+      if (engine)
+        cluster.session->attach(*engine, *scene);
+      else
+        cluster.session->detach();
+    };
+    o.settings["cluster"] = {{"ranks", cluster.session->size()}, {"render_threads", e.threads}};
+  }
+  // SIGTERM (mpirun ending the job when a rank failed) or Ctrl-C: stop between frames, so the
+  // manifest lists exactly the frames on disk.
+  std::signal(SIGTERM, on_stop_signal);
+  std::signal(SIGINT, on_stop_signal);
+  o.cancel = &g_cancel;
   if (!a.path_file.empty()) {
     auto p = load_camera_path(a.path_file);
     if (!p.ok()) return report_error(p.error().message);

@@ -1,6 +1,7 @@
 #include "tools/common_options.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 
 #include "core/scene_io.h"
@@ -102,22 +103,31 @@ bool valid_threads(int threads, std::string& error) {
   return false;
 }
 
-std::unique_ptr<Scene> load_scene_or_report(const std::string& spec, const ShadowFlags* shadows) {
+std::unique_ptr<Scene> load_scene_checked(const std::string& spec, const ShadowFlags* shadows,
+                                          std::string& error) {
   auto result = load_scene(spec);
   if (!result.ok()) {
-    std::fprintf(stderr, "frameless: %s\n", result.error().message.c_str());
+    error = result.error().message;
     return nullptr;
   }
-  std::string error;
-  if (shadows && !shadows->apply(*result.value(), error)) {
-    std::fprintf(stderr, "frameless: %s\n", error.c_str());
-    return nullptr;
-  }
+  if (shadows && !shadows->apply(*result.value(), error)) return nullptr;
   return std::move(result.value());
 }
 
+std::unique_ptr<Scene> load_scene_or_report(const std::string& spec, const ShadowFlags* shadows) {
+  std::string error;
+  std::unique_ptr<Scene> scene = load_scene_checked(spec, shadows, error);
+  if (!scene) report_error(error);
+  return scene;
+}
+
+bool quiet_rank() {
+  const char* r = std::getenv("OMPI_COMM_WORLD_RANK");
+  return r && *r && std::atoi(r) != 0;
+}
+
 int report_error(const std::string& message) {
-  std::fprintf(stderr, "frameless: %s\n", message.c_str());
+  if (!quiet_rank()) std::fprintf(stderr, "frameless: %s\n", message.c_str());
   return 2;
 }
 

@@ -46,7 +46,13 @@ bool valid_threads(int threads, std::string& error);
 std::unique_ptr<Scene> load_scene_or_report(const std::string& spec,
                                             const ShadowFlags* shadows = nullptr);
 
-// Prints "frameless: <message>" to stderr and returns the exit code for bad input (2).
+// "frameless: MESSAGE" on stderr; returns 2 (silent on cluster ranks other than 0: every rank
+// parses the same command line, and one line is enough).
 int report_error(const std::string& message);
+// Loads like load_scene_or_report but hands the one-line error back instead of printing it.
+std::unique_ptr<Scene> load_scene_checked(const std::string& spec, const ShadowFlags* shadows,
+                                          std::string& error);
+// Whether this process is a cluster client (a rank other than 0 under mpirun).
+bool quiet_rank();
 
 }  // namespace frameless::cli

@@ -272,11 +272,16 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
     if (opt.progress) std::fprintf(stderr, "\rcapture: frame %d/%d", k, total);
   };
   Result<bool> status = true;
+  auto cancelled = [&] { return opt.cancel && opt.cancel->load(std::memory_order_relaxed); };
+  auto started = [&] {
+    engine.start();
+    if (opt.engine_hook) opt.engine_hook(&engine);
+  };
 
   if (opt.engine.deterministic) {
     // Virtual clock: frame k shows the samples rendered in [k, k+1) / refresh with camera(k / refresh).
-    engine.start();
-    for (int k = 0; k < total && status.ok(); ++k) {
+    started();
+    for (int k = 0; k < total && status.ok() && !cancelled(); ++k) {
       publish_at(double(k) / opt.refresh_hz);
       const FrameInfo info = display.step();
       const DisplayImage& img = display.acquire_latest();
@@ -294,14 +299,14 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
       ticks.push_back(info);
       cv.notify_one();
     });
-    engine.start();
+    started();
     display.start();
     const auto t0 = std::chrono::steady_clock::now();
     auto elapsed = [&] {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
     int written = 0;
-    while (status.ok() && elapsed() < opt.duration && written < total) {
+    while (status.ok() && elapsed() < opt.duration && written < total && !cancelled()) {
       publish_at(elapsed());
       {
         std::unique_lock<std::mutex> lock(mutex);
@@ -328,6 +333,7 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
     engine.stop();
     display.set_on_tick_info(nullptr);
   }
+  if (opt.engine_hook) opt.engine_hook(nullptr);
   engine.stop();
   if (opt.progress) std::fprintf(stderr, "\n");
   result.frames = int(w.manifest.frames.size());
@@ -336,6 +342,9 @@ Result<CaptureResult> run_capture(const Scene& scene, const CaptureOptions& opt,
     return Error{status.error().message + " (capture stopped; " + std::to_string(result.frames) +
                  " frames written and listed in " + w.manifest_path + ")"};
   if (auto e = engine.error()) return Error{"render thread failed: " + *e};
+  if (cancelled())
+    return Error{"stopped by a signal (" + std::to_string(result.frames) + " frames written and listed in " +
+                 w.manifest_path + ")"};
   if (result.frames == 0) return Error{opt.out_dir + ": no display refresh arrived to capture"};
 
   if (opt.contact_sheet) {

@@ -2,6 +2,7 @@
 // window's GL draw code in an OSMesa context, each refresh read back and written as OpenEXR with a
 // JSON manifest. Runs on the calling (capture) thread, which owns the GL context.
 #pragma once
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -18,6 +19,8 @@
 #include "frameless/engine_config.h"
 
 namespace frameless {
+
+class Engine;
 
 // Float layers a capture can add next to the half RGB image.
 inline constexpr const char* kCaptureLayers[] = {"age", "count", "variance", "epoch", "levels"};
@@ -38,6 +41,12 @@ struct CaptureOptions {
   bool mp4 = true;                 // sequence.mp4 when ffmpeg is installed
   bool progress = false;           // one updating line on stderr
   nlohmann::json settings = nlohmann::json::object();  // extra settings for the manifest (scene, CLI)
+  // Called with the engine right after it started, and again (null) before it stops: a cluster
+  // master connects its clients there (tools/cluster_join.h).
+  std::function<void(Engine*)> engine_hook;
+  // Set from a signal handler (SIGTERM, SIGINT): the capture stops at the next frame boundary,
+  // so the manifest lists exactly the frames on disk.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Test seam: called with each output file's final path before it is written; a returned message

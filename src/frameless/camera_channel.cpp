@@ -10,9 +10,18 @@ CameraChannel::CameraChannel(const Camera& initial) {
   for (int i = 0; i < 10; ++i) data_[i].store(v[i], std::memory_order_relaxed);
 }
 
-uint32_t CameraChannel::publish(const Camera& c) {
+uint32_t CameraChannel::publish(const Camera& c) { return store(c, 0); }
+
+uint32_t CameraChannel::publish_as(const Camera& c, uint32_t epoch) { return store(c, epoch); }
+
+uint32_t CameraChannel::store(const Camera& c, uint32_t epoch) {
   // Publishers are rare (input events); they only wait for each other, never for readers.
   while (writing_.test_and_set(std::memory_order_acquire)) {
+  }
+  const uint32_t current = epoch_.load(std::memory_order_relaxed);
+  if (epoch != 0 && epoch <= current) {  // epochs only grow: an old or repeated camera is ignored
+    writing_.clear(std::memory_order_release);
+    return 0;
   }
   const float v[10] = {c.eye.x, c.eye.y, c.eye.z, c.look.x, c.look.y,
                        c.look.z, c.up.x, c.up.y, c.up.z, c.fov_deg};
@@ -20,7 +29,7 @@ uint32_t CameraChannel::publish(const Camera& c) {
   seq_.store(s + 1, std::memory_order_relaxed);
   std::atomic_thread_fence(std::memory_order_release);
   for (int i = 0; i < 10; ++i) data_[i].store(v[i], std::memory_order_relaxed);
-  const uint32_t e = epoch_.load(std::memory_order_relaxed) + 1;
+  const uint32_t e = epoch != 0 ? epoch : current + 1;
   epoch_.store(e, std::memory_order_relaxed);
   seq_.store(s + 2, std::memory_order_release);
   writing_.clear(std::memory_order_release);

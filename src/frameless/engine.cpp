@@ -148,10 +148,11 @@ void Engine::start() {
   if (e.cfg.deterministic) {
     e.pool_quit = false;
     e.pool_generation = 0;
-    for (int t = 0; t < e.threads; ++t) e.thread_handles.emplace_back(pool_thread_main, std::ref(e), t);
+    for (int t = 0; t < e.threads; ++t)
+      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(pool_thread_main, std::ref(e), t);
   } else if (e.cfg.mode == RenderMode::frameless) {
     for (int t = 0; t < e.threads; ++t)
-      e.thread_handles.emplace_back(frameless_thread_main, std::ref(e), t);
+      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(frameless_thread_main, std::ref(e), t);
   } else {
     e.barrier = std::make_unique<std::barrier<Impl::FrameDone>>(e.threads, Impl::FrameDone{&e});
     for (int t = 0; t < e.threads; ++t)
@@ -179,6 +180,10 @@ bool Engine::running() const { return impl_->running; }
 uint32_t Engine::publish_camera(const Camera& camera) {
   if (!camera_is_valid(camera)) throw std::invalid_argument("publish_camera: invalid camera");
   return impl_->channel.publish(camera);
+}
+uint32_t Engine::publish_camera_as(const Camera& camera, uint32_t epoch) {
+  if (!camera_is_valid(camera)) throw std::invalid_argument("publish_camera: invalid camera");
+  return impl_->channel.publish_as(camera, epoch);
 }
 uint32_t Engine::camera_epoch() const { return impl_->channel.epoch(); }
 
@@ -236,6 +241,7 @@ WorldState Engine::world() const {
   return w;
 }
 Camera Engine::camera() const { return impl_->channel.read(); }
+Camera Engine::camera(uint32_t* epoch) const { return impl_->channel.read(epoch); }
 
 void Engine::reconfigure(const EngineConfig& config) {
   const std::string problem = validate(config);
@@ -285,7 +291,7 @@ namespace {
 void run_pool(Engine::Impl& e, std::function<void(int)> task) {
   std::unique_lock<std::mutex> lock(e.pool_mutex);
   e.pool_task = std::move(task);
-  e.pool_pending = e.threads;
+  e.pool_pending = int(e.thread_handles.size());  // the owned threads (all, outside a cluster)
   ++e.pool_generation;
   e.pool_cv.notify_all();
   e.pool_done_cv.wait(lock, [&] { return e.pool_pending == 0; });
@@ -340,8 +346,13 @@ void Engine::advance(double tick_seconds) {
       }
     }
   }
+  if (e.remote_advance) e.remote_advance(k, tick_seconds);
   e.virtual_time.store(t_begin + tick_seconds, std::memory_order_relaxed);
   e.ticks.store(k + 1, std::memory_order_relaxed);
+}
+
+void Engine::set_remote_advance(std::function<void(uint64_t, double)> fn) {
+  impl_->remote_advance = std::move(fn);
 }
 
 uint64_t Engine::ticks() const { return impl_->ticks.load(std::memory_order_relaxed); }
@@ -410,6 +421,58 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
     r.new_frame = true;
   }
   return r;
+}
+
+void Engine::ingest(const RemoteBatch& b) {
+  Impl& e = *impl_;
+  std::lock_guard<std::mutex> lock(e.layout_mutex);  // the layout (slots, counters) stays put
+  auto bad = [&](const std::string& what) {
+    throw std::invalid_argument("remote thread " + std::to_string(b.thread) + ": " + what);
+  };
+  if (e.cfg.mode != RenderMode::frameless) bad("updates need frameless mode");
+  if (b.thread < 0 || b.thread >= e.threads) bad("no such render thread");
+  if (owns_thread(e.cfg, b.thread)) bad("this process renders that thread itself");
+  const ThreadCounters& c = e.counters[b.thread];
+  if (b.updates < c.updates.load(std::memory_order_relaxed) ||
+      b.samples < c.samples.load(std::memory_order_relaxed) ||
+      b.dropped < c.dropped.load(std::memory_order_relaxed))
+    bad("counters went backwards");
+  const size_t first = e.thread_first_slot[size_t(b.thread)];
+  const size_t end = e.thread_first_slot[size_t(b.thread) + 1];
+  const uint32_t newest = e.channel.epoch();
+  for (const RemoteSlot& r : b.slots) {
+    const PixelSnapshot& s = r.state;
+    if (r.slot < first || r.slot >= end) bad("slot " + std::to_string(r.slot) + " is not its own");
+    if (s.epoch < 1 || s.epoch > newest) bad("camera epoch " + std::to_string(s.epoch) + " out of range");
+    if (s.count < 1) bad("a published pixel without samples");
+    bool finite = std::isfinite(s.variance) && s.variance >= 0.0f && std::isfinite(s.time);
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(s.sample[k]) && std::isfinite(s.mean[k]);
+    if (!finite) bad("non-finite value in slot " + std::to_string(r.slot));
+  }
+  for (const RemoteSlot& r : b.slots) {
+    // The render thread's publish protocol (render_loop.cpp), for a state computed elsewhere.
+    PixelState& p = e.states[r.slot];
+    const PixelSnapshot& s = r.state;
+    const uint32_t seq = p.seq.load(std::memory_order_relaxed);
+    p.seq.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    p.count.store(s.count, std::memory_order_relaxed);
+    p.epoch.store(s.epoch, std::memory_order_relaxed);
+    for (int k = 0; k < 3; ++k) {
+      p.mean[k].store(double(s.mean[k]), std::memory_order_relaxed);  // read back as the same float
+      p.sample[k].store(s.sample[k], std::memory_order_relaxed);
+    }
+    // read_pixel() gives float(m2 / (count - 1)): this m2 gives the same float back.
+    p.m2.store(s.count > 1 ? double(s.variance) * double(s.count - 1) : 0.0, std::memory_order_relaxed);
+    p.time.store(s.time, std::memory_order_relaxed);
+    e.levels[(*e.display_order)[r.slot]].store(s.levels, std::memory_order_relaxed);
+    p.seq.store(seq + 2, std::memory_order_release);
+  }
+  ThreadCounters& w = e.counters[b.thread];
+  w.samples.store(b.samples, std::memory_order_relaxed);
+  w.dropped.store(b.dropped, std::memory_order_relaxed);
+  w.busy_ns.store(b.busy_ns, std::memory_order_relaxed);
+  w.updates.store(b.updates, std::memory_order_release);  // last: collect() reads it first
 }
 
 void Engine::note_display_tick(uint32_t index) {

@@ -3,6 +3,7 @@
 // are internal. The destructor stops and joins every thread (RAII).
 #pragma once
 #include <atomic>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -83,6 +84,18 @@ class UpdateSink {
   virtual void frame(const std::vector<PixelSnapshot>& pixels) = 0;
 };
 
+// One remote render thread's news for a cluster master (src/cluster): its cumulative counters
+// and the newest published state of every slot it changed since its previous batch.
+struct RemoteSlot {
+  uint32_t slot = 0;    // slot index (frameless: a position in the thread's list, offset)
+  PixelSnapshot state;  // as read_pixel() gave it on the rendering process, levels included
+};
+struct RemoteBatch {
+  int thread = 0;  // render thread index in the whole cluster's partition
+  uint64_t updates = 0, samples = 0, dropped = 0, busy_ns = 0;  // ThreadCounters, cumulative
+  std::vector<RemoteSlot> slots;
+};
+
 class Engine {
  public:
   // `scene` must be finalized and outlive the engine. The initial camera is `camera`.
@@ -99,8 +112,12 @@ class Engine {
 
   // Publishes a new camera without blocking; returns its epoch. Any thread.
   uint32_t publish_camera(const Camera& camera);
+  // A cluster client mirrors its master's camera under the master's epoch (0 and no change
+  // unless epoch > camera_epoch()). Any thread.
+  uint32_t publish_camera_as(const Camera& camera, uint32_t epoch);
   uint32_t camera_epoch() const;  // newest epoch; any thread
   Camera camera() const;          // newest camera; any thread
+  Camera camera(uint32_t* epoch) const;  // newest camera and its epoch, read together; any thread
   // What moves while you look (core/dynamic.h): publishes where the dynamic objects sit (their
   // own motion adds to that), the lights and the material parameters, without blocking; render
   // threads pick it up at the update percentage, like the camera. Throws std::invalid_argument
@@ -141,6 +158,11 @@ class Engine {
   // samples_per_tick, then the virtual clock advances by `tick_seconds`. Returns when all are done.
   void advance(double tick_seconds);
   uint64_t ticks() const;  // advance() calls since start()
+  // Cluster master (src/cluster): called inside every advance(), after this process's own
+  // threads rendered their share and before the virtual clock moves, with the tick index and its
+  // seconds: the other processes render theirs and ingest() it before the display looks.
+  // Control thread; set while stopped.
+  void set_remote_advance(std::function<void(uint64_t tick, double seconds)> fn);
   // Engine seconds since construction: wall clock, or the virtual clock in deterministic mode.
   double now() const;
 
@@ -148,6 +170,13 @@ class Engine {
   // consecutive slots (so the reader streams through memory), and advances the cursor. In
   // conventional mode it hands over the newest completed frame, once.
   CollectResult collect(UpdateCursor& cursor, UpdateSink& sink);
+  // Cluster master (one communication thread): writes the states a remote render thread
+  // published into its slots exactly as a local thread would, then its counters, so collect()
+  // offers them to the display unchanged. Checked before use: a thread this engine renders
+  // itself or out of range, a slot outside the thread's list, an epoch from the future, a
+  // non-finite value or falling counters throw std::invalid_argument (one line), and nothing of
+  // that batch is written.
+  void ingest(const RemoteBatch& batch);
   // Display thread: the display interval index stamped into update-log records.
   void note_display_tick(uint32_t index);
 

@@ -66,7 +66,18 @@ struct EngineConfig {
   // Trace the camera rays of consecutive owned pixels as coherent packets (core/accel.h): same
   // images bit for bit, faster. Off: ray by ray (for comparison; custom shaders always are).
   bool packets = true;
+  // Cluster (src/cluster): this process renders only threads [owned_first, owned_first +
+  // owned_count) of the `threads`-thread partition; the other threads' pixels are rendered by
+  // other processes and arrive through Engine::ingest(). -1: all threads (a single process);
+  // 0: none (the cluster master). Frameless mode only; `threads` must then be explicit.
+  int owned_first = 0;
+  int owned_count = -1;
 };
+
+// Whether this process renders render thread t (EngineConfig::owned_first/owned_count).
+inline bool owns_thread(const EngineConfig& c, int t) {
+  return c.owned_count < 0 || (t >= c.owned_first && t < c.owned_first + c.owned_count);
+}
 
 // Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.
 inline bool tracks_variance(const EngineConfig& c) { return c.track_variance || c.adaptive.enabled; }

@@ -161,6 +161,7 @@ struct Engine::Impl {
   int pool_pending = 0;
   bool pool_quit = false;
   std::function<void(int)> pool_task;
+  std::function<void(uint64_t, double)> remote_advance;  // cluster master (Engine::set_remote_advance)
 
   double now() const {
     if (cfg.deterministic) return virtual_time.load(std::memory_order_relaxed);

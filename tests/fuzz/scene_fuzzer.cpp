@@ -21,7 +21,8 @@
 // or holds a newline traps (__builtin_trap), as does a returned value that breaks its documented
 // invariants (mesh indices, per-vertex arrays, material and texture slots, image sizes, finite
 // texels and samples). Meshes that load are then built into a scene as `frameless MESH` would
-// (make_mesh_scene + finalize_scene). SCENE_FUZZER_VERBOSE=1 prints each input's outcome (handy
+// (make_mesh_scene + finalize_scene). Cluster messages (first byte 10) must decode or be
+// refused in one line, and what decodes must encode back to the same bytes. SCENE_FUZZER_VERBOSE=1 prints each input's outcome (handy
 // when replaying one file). Build with -DFRAMELESS_FUZZ=ON and clang.
 #include <fcntl.h>
 #include <signal.h>
@@ -33,11 +34,13 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <system_error>
 
+#include "cluster/wire.h"
 #include "core/scene.h"
 #include "core/scene_build.h"
 #include "core/scene_io.h"
@@ -303,10 +306,32 @@ void run_spheres(const std::string& input) {
   run_scene(Result<std::unique_ptr<Scene>>(std::move(scene)));
 }
 
+// Cluster messages as they arrive from the network (cluster/wire.h): refused with one line, or
+// decoded into values that encode back to exactly the same bytes.
+void run_wire(const std::string& input) {
+  if (input.empty()) return;
+  const auto* p = reinterpret_cast<const uint8_t*>(input.data()) + 1;
+  const size_t n = input.size() - 1;
+  try {
+    std::vector<uint8_t> again;
+    switch (uint8_t(input[0]) % 3) {
+      case 0: again = cluster::encode(cluster::decode_hello(p, n)); break;
+      case 1: again = cluster::encode(cluster::decode_control(p, n)); break;
+      default: again = cluster::encode(cluster::decode_updates(p, n)); break;
+    }
+    if (again.size() != n || std::memcmp(again.data(), p, n) != 0) {
+      std::fprintf(stderr, "scene_fuzzer: a wire message does not encode back to its bytes\n");
+      std::abort();
+    }
+  } catch (const std::invalid_argument& e) {
+    check_error(Error{e.what()});
+  }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const std::string input(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 10) {
+  switch (data[0] % 11) {
     case 0:
       run_scene(parse_scene_json(input, "fuzz.json", "/nonexistent"));
       break;
@@ -362,6 +387,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     case 9:
       run_spheres(input);
+      break;
+    case 10:
+      run_wire(input);
       break;
   }
   return 0;

@@ -1,0 +1,94 @@
+// Open MPI behind MpiLink.
+#include "cluster/mpi_link.h"
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace frameless::cluster {
+
+int launched_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_SIZE"})
+    if (const char* v = std::getenv(name); v && *v) return std::max(1, std::atoi(v));
+  return 1;
+}
+
+MpiLink::MpiLink() {
+  int provided = 0;
+  if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS)
+    throw std::runtime_error("cluster: MPI_Init_thread failed");
+  if (provided < MPI_THREAD_SERIALIZED) {
+    MPI_Finalize();
+    throw std::runtime_error("cluster: this MPI cannot serve a communication thread (MPI_THREAD_SERIALIZED)");
+  }
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+MpiLink::~MpiLink() { MPI_Finalize(); }
+
+void MpiLink::send(int dest, int tag, const std::vector<uint8_t>& bytes) {
+  MPI_Send(bytes.data(), int(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD);
+}
+
+bool MpiLink::poll(int source, int tag, std::vector<uint8_t>& bytes, int* from) {
+  int flag = 0;
+  MPI_Status st;
+  MPI_Iprobe(source < 0 ? MPI_ANY_SOURCE : source, tag, MPI_COMM_WORLD, &flag, &st);
+  if (!flag) return false;
+  int count = 0;
+  MPI_Get_count(&st, MPI_BYTE, &count);
+  if (count < 0 || count > kMaxMessageBytes)
+    throw std::runtime_error("cluster: rank " + std::to_string(st.MPI_SOURCE) + " sent a message of " +
+                             std::to_string(count) + " bytes (limit " + std::to_string(kMaxMessageBytes) + ")");
+  bytes.resize(size_t(count));
+  MPI_Recv(bytes.data(), count, MPI_BYTE, st.MPI_SOURCE, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (from) *from = st.MPI_SOURCE;
+  return true;
+}
+
+void MpiLink::wait(int source, int tag, std::vector<uint8_t>& bytes, int* from) {
+  auto nap = std::chrono::microseconds(20);
+  while (!poll(source, tag, bytes, from)) {
+    std::this_thread::sleep_for(nap);
+    nap = std::min(nap * 2, std::chrono::microseconds(1000));
+  }
+}
+
+std::vector<std::vector<uint8_t>> MpiLink::gather(const std::vector<uint8_t>& mine) {
+  int n = int(mine.size());
+  std::vector<int> sizes(rank_ == 0 ? size_t(size_) : 0);
+  MPI_Gather(&n, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets(sizes.size(), 0);
+  int total = 0;
+  for (size_t r = 0; r < sizes.size(); ++r) {
+    offsets[r] = total;
+    total += sizes[r];
+  }
+  std::vector<uint8_t> all(static_cast<size_t>(total));
+  MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), sizes.data(), offsets.data(), MPI_BYTE, 0,
+              MPI_COMM_WORLD);
+  std::vector<std::vector<uint8_t>> out(sizes.size());
+  for (size_t r = 0; r < sizes.size(); ++r)
+    out[r].assign(all.begin() + offsets[r], all.begin() + offsets[r] + sizes[r]);
+  return out;
+}
+
+void MpiLink::broadcast(std::vector<uint8_t>& bytes) {
+  int n = int(bytes.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  bytes.resize(size_t(n));
+  MPI_Bcast(bytes.data(), n, MPI_BYTE, 0, MPI_COMM_WORLD);
+}
+
+void MpiLink::abort(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);
+}
+
+}  // namespace frameless::cluster

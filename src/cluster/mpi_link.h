@@ -1,0 +1,41 @@
+// The one place that calls Open MPI: byte messages between ranks of MPI_COMM_WORLD. Every call
+// on a process comes from one thread at a time (MPI_THREAD_SERIALIZED): the handshake and
+// shutdown from the command's thread, everything between from the communication thread.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace frameless::cluster {
+
+// Ranks in this job from Open MPI's launch environment (1 when not started by mpirun).
+int launched_size();
+
+class MpiLink {
+ public:
+  MpiLink();   // MPI_Init_thread; throws std::runtime_error when MPI cannot start
+  ~MpiLink();  // MPI_Finalize (after every message was answered)
+  MpiLink(const MpiLink&) = delete;
+  MpiLink& operator=(const MpiLink&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  void send(int dest, int tag, const std::vector<uint8_t>& bytes);
+  // A waiting message with `tag` from `source` (-1: any), into bytes; false when none waits.
+  // Throws std::runtime_error for a message larger than kMaxMessageBytes (it is not read).
+  bool poll(int source, int tag, std::vector<uint8_t>& bytes, int* from = nullptr);
+  // Waits for one (polling with short sleeps, so a waiting rank leaves its core to the renderers).
+  void wait(int source, int tag, std::vector<uint8_t>& bytes, int* from = nullptr);
+  // Every rank, together: gathers each rank's bytes at rank 0 (others get an empty vector).
+  std::vector<std::vector<uint8_t>> gather(const std::vector<uint8_t>& mine);
+  // Every rank, together: rank 0's bytes to all.
+  void broadcast(std::vector<uint8_t>& bytes);
+  // Ends every rank of the job now (mpirun reports it); for faults that must not hang.
+  [[noreturn]] void abort(int code);
+
+  static constexpr int kMaxMessageBytes = 1 << 28;
+
+ private:
+  int rank_ = 0, size_ = 1;
+};
+
+}  // namespace frameless::cluster

@@ -1,0 +1,254 @@
+// Cluster session: MPI start and stop, the handshake, the client's loop, the master's attach.
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "cluster/change_collector.h"
+#include "cluster/session_impl.h"
+#include "core/dynamic.h"
+
+namespace frameless::cluster {
+
+bool launched() { return launched_size() >= 2; }
+
+uint64_t scene_fingerprint(const Scene& s) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over what must agree between ranks
+  auto mix = [&](const void* p, size_t n) {
+    const auto* b = static_cast<const uint8_t*>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  auto count = [&](size_t n) { mix(&n, sizeof n); };
+  mix(s.name.data(), s.name.size());
+  const Geometry& g = s.geometry;
+  count(g.positions.size());
+  count(g.triangles.size());
+  count(g.spheres.size());
+  count(g.patches.size());
+  count(g.instances.size());
+  count(s.materials.size());
+  count(s.textures.size());
+  count(s.lights.size());
+  count(s.dynamic.size());
+  if (!g.positions.empty()) mix(g.positions.data(), sizeof(Vec3) * std::min<size_t>(g.positions.size(), 4096));
+  if (!g.spheres.empty()) mix(g.spheres.data(), sizeof(Sphere) * std::min<size_t>(g.spheres.size(), 4096));
+  const float cam[10] = {s.camera.eye.x, s.camera.eye.y, s.camera.eye.z, s.camera.look.x, s.camera.look.y,
+                         s.camera.look.z, s.camera.up.x, s.camera.up.y, s.camera.up.z, s.camera.fov_deg};
+  mix(cam, sizeof cam);
+  return h;
+}
+
+Session::Session() : impl_(std::make_unique<Impl>()) {
+  if (launched()) impl_->link = std::make_unique<MpiLink>();
+}
+
+Session::~Session() {
+  detach();
+  if (master()) impl_->release_clients();  // a master that ends early still lets its clients go
+}
+
+int Session::rank() const { return impl_->link ? impl_->link->rank() : 0; }
+int Session::size() const { return impl_->link ? impl_->link->size() : 1; }
+
+std::string Session::handshake(const std::string& error, uint64_t fingerprint, int threads) {
+  Impl& d = *impl_;
+  if (!d.link) throw std::logic_error("cluster: not launched by mpirun");
+  Hello me;
+  me.build = build_identity();
+  me.scene_fingerprint = fingerprint;
+  me.threads = uint32_t(std::max(0, threads));
+  me.error = error;
+  const std::vector<std::vector<uint8_t>> all = d.link->gather(encode(me));
+  std::vector<uint8_t> verdict;
+  if (master()) {
+    std::string problem;
+    std::vector<Hello> hellos;
+    auto one_line = [](std::string& s) {  // it is printed as part of one line
+      for (char& ch : s)
+        if (uint8_t(ch) < 0x20) ch = ' ';
+    };
+    for (size_t r = 0; r < all.size() && problem.empty(); ++r) {
+      try {
+        hellos.push_back(decode_hello(all[r].data(), all[r].size()));
+        one_line(hellos.back().error);
+        one_line(hellos.back().build);
+      } catch (const std::exception& ex) {
+        problem = "rank " + std::to_string(r) + ": " + ex.what();
+      }
+    }
+    for (size_t r = 0; r < hellos.size() && problem.empty(); ++r) {
+      const Hello& h = hellos[r];
+      const std::string who = "rank " + std::to_string(r);
+      if (!h.error.empty())
+        problem = who + ": " + h.error;
+      else if (h.build != hellos[0].build)
+        problem = who + " runs another build (" + h.build + ") than rank 0 (" + hellos[0].build + ")";
+      else if (h.scene_fingerprint != hellos[0].scene_fingerprint)
+        problem = who + " loaded another scene than rank 0 (same file everywhere?)";
+      else if (r >= 2 && h.threads != hellos[1].threads)
+        problem = who + " runs " + std::to_string(h.threads) + " render threads, rank 1 " +
+                  std::to_string(hellos[1].threads) + ": give --threads";
+    }
+    if (problem.empty() && !hellos.empty()) d.threads_per_client = int(hellos.size() > 1 ? hellos[1].threads : 0);
+    const std::string msg = problem + '\n' + std::to_string(d.threads_per_client);
+    verdict.assign(msg.begin(), msg.end());
+  }
+  d.link->broadcast(verdict);
+  const std::string text(verdict.begin(), verdict.end());
+  const size_t nl = text.rfind('\n');
+  d.threads_per_client = std::atoi(text.c_str() + nl + 1);
+  d.serving = nl == 0 && clients() > 0;  // the clients now serve until the master releases them
+  return text.substr(0, nl);
+}
+
+EngineConfig Session::master_config(EngineConfig c) const {
+  c.threads = clients() * impl_->threads_per_client;
+  c.owned_first = 0;
+  c.owned_count = 0;
+  return c;
+}
+
+int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, const ClusterOptions& o) {
+  Impl& d = *impl_;
+  const int t = d.threads_per_client;
+  c.threads = clients() * t;
+  c.owned_first = (rank() - 1) * t;
+  c.owned_count = t;
+  auto fail = [&](const std::string& what) -> int {
+    std::fprintf(stderr, "frameless: cluster rank %d: %s\n", rank(), what.c_str());
+    std::fflush(stderr);
+    d.link->abort(3);
+  };
+  try {
+    Engine engine(scene, c, camera);
+    ChangeCollector collector(engine, c.owned_first, t);
+    const uint32_t instances = uint32_t(engine.instance_top() ? engine.instance_top()->position.size() : 0);
+    auto send = [&](uint64_t tick) {
+      Updates u;
+      u.tick = tick;
+      u.threads = collector.take(engine);
+      d.link->send(0, kTagUpdates, encode(u));
+    };
+    engine.start();
+    std::vector<uint8_t> bytes;
+    auto last = std::chrono::steady_clock::now();
+    auto nap = std::chrono::microseconds(20);
+    for (;;) {
+      bool busy = false, stop = false;
+      while (d.link->poll(0, kTagControl, bytes)) {
+        busy = true;
+        Control m = decode_control(bytes.data(), bytes.size());
+        if (m.camera) engine.publish_camera_as(m.camera->second, m.camera->first);
+        if (!m.world.empty()) {
+          WorldState w = initial_world(scene);
+          if (!unpack_world(m.world.data(), m.world.size(), w))
+            throw std::invalid_argument("control.world: does not match the scene");
+          engine.publish_world(w);
+        }
+        if (!m.moves.empty()) {
+          for (const InstanceMove& mv : m.moves)
+            if (mv.index >= instances) throw std::invalid_argument("control.moves: instance out of range");
+          engine.move_instances(m.moves);
+        }
+        if (m.advance) {
+          if (!c.deterministic) throw std::invalid_argument("control.advance: this rank runs on the wall clock");
+          if (m.advance->first != engine.ticks())
+            throw std::invalid_argument("control.advance: tick " + std::to_string(m.advance->first) +
+                                        " out of order");
+          engine.advance(m.advance->second);
+          if (auto e = engine.error()) throw std::runtime_error("render thread failed: " + *e);
+          send(m.advance->first);
+        }
+        if (m.stop) stop = true;
+      }
+      while (d.link->poll(0, kTagPing, bytes)) d.link->send(0, kTagPing, bytes);
+      if (stop) break;
+      if (!c.deterministic) {
+        if (auto e = engine.error()) throw std::runtime_error("render thread failed: " + *e);
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last >= std::chrono::duration<double, std::milli>(o.batch_ms)) {
+          send(~uint64_t(0));
+          last = now;
+          busy = true;
+        }
+      }
+      if (busy) {
+        nap = std::chrono::microseconds(20);
+      } else {
+        std::this_thread::sleep_for(nap);
+        nap = std::min(nap * 2, std::chrono::microseconds(500));
+      }
+    }
+    engine.stop();
+    d.link->send(0, kTagBye, {});
+  } catch (const std::exception& ex) {
+    return fail(ex.what());
+  }
+  return 0;
+}
+
+void Session::attach(Engine& engine, const Scene& scene) {
+  Impl& d = *impl_;
+  d.engine = &engine;
+  d.sent_camera_epoch = 1;
+  d.sent_world_epoch = 1;
+  d.sent_instances_epoch = 1;
+  d.sent_transforms.clear();
+  if (const auto top = scene.accel.instance_top())
+    for (uint32_t p : top->position) d.sent_transforms.push_back(top->instances[p].to_world);
+  if (engine.config().deterministic) {
+    engine.set_remote_advance([&d](uint64_t tick, double seconds) { d.advance_round(tick, seconds); });
+  } else {
+    d.comm_stop.store(false);
+    d.comm = std::thread([&d] { d.comm_main(); });
+  }
+}
+
+void Session::detach() {
+  Impl& d = *impl_;
+  if (!d.engine) return;
+  if (d.comm.joinable()) {
+    d.comm_stop.store(true, std::memory_order_release);
+    d.comm.join();
+  }
+  d.engine->set_remote_advance(nullptr);
+  d.engine = nullptr;
+  d.release_clients();
+}
+
+void Session::Impl::release_clients() {
+  if (!serving) return;
+  serving = false;
+  Control stop;
+  stop.stop = true;
+  send_all(stop);
+  // Updates still in flight are taken (and dropped: the engine may be stopping) until every
+  // client said goodbye, so no client is left blocked in a send.
+  std::vector<uint8_t> bytes;
+  for (int r = 1; r < link->size(); ++r) {
+    auto nap = std::chrono::microseconds(20);
+    while (!link->poll(r, kTagBye, bytes)) {
+      if (!link->poll(r, kTagUpdates, bytes)) {
+        std::this_thread::sleep_for(nap);
+        nap = std::min(nap * 2, std::chrono::microseconds(1000));
+      }
+    }
+  }
+}
+
+ClusterStats Session::stats() const {
+  std::lock_guard<std::mutex> lock(impl_->stats_mutex);
+  return impl_->stats;
+}
+
+double Session::ping(int client) {
+  Impl& d = *impl_;
+  std::vector<uint8_t> bytes(16, 0), back;
+  const auto t0 = std::chrono::steady_clock::now();
+  d.link->send(client, kTagPing, bytes);
+  while (!d.link->poll(client, kTagPing, back)) {
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace frameless::cluster

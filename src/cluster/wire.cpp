@@ -1,0 +1,257 @@
+// Byte encoding of the cluster's messages: little-endian fixed-width fields, counts before
+// arrays, every read bounds-checked.
+#include "cluster/wire.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+namespace frameless::cluster {
+namespace {
+
+static_assert(sizeof(float) == 4 && sizeof(double) == 8);
+
+class Writer {
+ public:
+  explicit Writer(size_t reserve = 64) { out_.reserve(reserve); head(); }
+  template <class T>
+  void put(const T& v) {
+    const size_t n = out_.size();
+    out_.resize(n + sizeof(T));
+    std::memcpy(out_.data() + n, &v, sizeof(T));
+  }
+  void str(const std::string& s) {
+    put(uint32_t(s.size()));
+    out_.insert(out_.end(), s.begin(), s.end());
+  }
+  std::vector<uint8_t> take() { return std::move(out_); }
+
+ private:
+  void head() {
+    put(kWireMagic);
+    put(kWireVersion);
+  }
+  std::vector<uint8_t> out_;
+};
+
+class Reader {
+ public:
+  Reader(const uint8_t* data, size_t size, const char* what) : p_(data), n_(size), what_(what) {
+    if (get<uint32_t>("magic") != kWireMagic) fail("magic", "not a frameless cluster message");
+    if (const uint32_t v = get<uint32_t>("version"); v != kWireVersion)
+      fail("version", "wire version " + std::to_string(v) + ", this build speaks " +
+                          std::to_string(kWireVersion));
+  }
+  template <class T>
+  T get(const char* field) {
+    if (n_ - i_ < sizeof(T)) fail(field, "message truncated");
+    T v;
+    std::memcpy(&v, p_ + i_, sizeof(T));
+    i_ += sizeof(T);
+    return v;
+  }
+  float finite(const char* field) {
+    const float v = get<float>(field);
+    if (!std::isfinite(v)) fail(field, "not finite");
+    return v;
+  }
+  // A count of items of at least `item_bytes` each: never more than the bytes left.
+  uint32_t count(const char* field, size_t item_bytes) {
+    const uint32_t c = get<uint32_t>(field);
+    if (item_bytes && uint64_t(c) * item_bytes > n_ - i_) fail(field, "count beyond the message");
+    return c;
+  }
+  std::string str(const char* field, size_t max) {
+    const uint32_t len = count(field, 1);
+    if (len > max) fail(field, "longer than " + std::to_string(max) + " bytes");
+    std::string s(reinterpret_cast<const char*>(p_ + i_), len);
+    i_ += len;
+    return s;
+  }
+  void end() {
+    if (i_ != n_) fail("end", std::to_string(n_ - i_) + " trailing bytes");
+  }
+  [[noreturn]] void fail(const char* field, const std::string& problem) const {
+    throw std::invalid_argument(std::string(what_) + "." + field + ": " + problem);
+  }
+
+ private:
+  const uint8_t* p_;
+  size_t n_, i_ = 0;
+  const char* what_;
+};
+
+void put_camera(Writer& w, const Camera& c) {
+  for (const Vec3& v : {c.eye, c.look, c.up})
+    for (int k = 0; k < 3; ++k) w.put(v[k]);
+  w.put(c.fov_deg);
+}
+
+Camera get_camera(Reader& r) {
+  Camera c;
+  for (Vec3* v : {&c.eye, &c.look, &c.up})
+    for (int k = 0; k < 3; ++k) (*v)[k] = r.finite("camera");
+  c.fov_deg = r.finite("camera.fov");
+  if (!camera_is_valid(c)) r.fail("camera", "degenerate camera");
+  return c;
+}
+
+constexpr uint32_t kCamera = 1, kWorld = 2, kMoves = 4, kAdvance = 8, kStop = 16;  // Control kind bits
+
+}  // namespace
+
+std::vector<uint8_t> encode(const Hello& m) {
+  Writer w;
+  w.str(m.build);
+  w.put(m.scene_fingerprint);
+  w.put(m.threads);
+  w.str(m.error);
+  return w.take();
+}
+
+Hello decode_hello(const uint8_t* data, size_t size) {
+  Reader r(data, size, "hello");
+  Hello m;
+  m.build = r.str("build", 256);
+  m.scene_fingerprint = r.get<uint64_t>("scene");
+  m.threads = r.get<uint32_t>("threads");
+  if (m.threads > 1024) r.fail("threads", "more than 1024");
+  m.error = r.str("error", 4096);
+  r.end();
+  return m;
+}
+
+std::vector<uint8_t> encode(const Control& m) {
+  Writer w(128 + 4 * m.world.size() + 52 * m.moves.size());
+  const uint32_t bits = (m.camera ? kCamera : 0) | (m.world.empty() ? 0 : kWorld) |
+                        (m.moves.empty() ? 0 : kMoves) | (m.advance ? kAdvance : 0) | (m.stop ? kStop : 0);
+  w.put(bits);
+  if (m.camera) {
+    w.put(m.camera->first);
+    put_camera(w, m.camera->second);
+  }
+  if (!m.world.empty()) {
+    w.put(uint32_t(m.world.size()));
+    for (float f : m.world) w.put(f);
+  }
+  if (!m.moves.empty()) {
+    w.put(uint32_t(m.moves.size()));
+    for (const InstanceMove& mv : m.moves) {
+      w.put(mv.index);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) w.put(mv.to_world.m[c][k]);
+      for (int k = 0; k < 3; ++k) w.put(mv.to_world.t[k]);
+    }
+  }
+  if (m.advance) {
+    w.put(m.advance->first);
+    w.put(m.advance->second);
+  }
+  return w.take();
+}
+
+Control decode_control(const uint8_t* data, size_t size) {
+  Reader r(data, size, "control");
+  Control m;
+  const uint32_t bits = r.get<uint32_t>("kind");
+  if (bits & ~uint32_t(kCamera | kWorld | kMoves | kAdvance | kStop)) r.fail("kind", "unknown bits");
+  if (bits & kCamera) {
+    const uint32_t epoch = r.get<uint32_t>("camera.epoch");
+    if (epoch < 1) r.fail("camera.epoch", "must be at least 1");
+    m.camera.emplace(epoch, get_camera(r));
+  }
+  if (bits & kWorld) {
+    const uint32_t n = r.count("world", 4);
+    if (n == 0) r.fail("world", "empty");
+    m.world.resize(n);
+    for (float& f : m.world) f = r.finite("world");
+  }
+  if (bits & kMoves) {
+    const uint32_t n = r.count("moves", 52);
+    if (n == 0) r.fail("moves", "empty");
+    m.moves.resize(n);
+    for (InstanceMove& mv : m.moves) {
+      mv.index = r.get<uint32_t>("moves.index");
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) mv.to_world.m[c][k] = r.finite("moves.matrix");
+      for (int k = 0; k < 3; ++k) mv.to_world.t[k] = r.finite("moves.offset");
+    }
+  }
+  if (bits & kAdvance) {
+    const uint64_t tick = r.get<uint64_t>("advance.tick");
+    const double seconds = r.get<double>("advance.seconds");
+    if (!(seconds > 0.0 && seconds <= 1.0)) r.fail("advance.seconds", "must be in (0, 1]");
+    m.advance.emplace(tick, seconds);
+  }
+  m.stop = bits & kStop;
+  r.end();
+  return m;
+}
+
+std::vector<uint8_t> encode(const Updates& m) {
+  size_t slots = 0;
+  for (const RemoteBatch& b : m.threads) slots += b.slots.size();
+  Writer w(32 + 40 * m.threads.size() + kSlotRecordBytes * slots);
+  w.put(m.tick);
+  w.put(uint32_t(m.threads.size()));
+  for (const RemoteBatch& b : m.threads) {
+    w.put(uint32_t(b.thread));
+    w.put(b.updates);
+    w.put(b.samples);
+    w.put(b.dropped);
+    w.put(b.busy_ns);
+    w.put(uint32_t(b.slots.size()));
+    for (const RemoteSlot& s : b.slots) {
+      w.put(s.slot);
+      w.put(s.state.count);
+      w.put(s.state.epoch);
+      for (int k = 0; k < 3; ++k) w.put(s.state.sample[k]);
+      for (int k = 0; k < 3; ++k) w.put(s.state.mean[k]);
+      w.put(s.state.variance);
+      w.put(s.state.time);
+      w.put(s.state.levels);
+    }
+  }
+  return w.take();
+}
+
+Updates decode_updates(const uint8_t* data, size_t size) {
+  Reader r(data, size, "updates");
+  Updates m;
+  m.tick = r.get<uint64_t>("tick");
+  const uint32_t threads = r.count("threads", 40);
+  if (threads > 1024) r.fail("threads", "more than 1024");
+  m.threads.resize(threads);
+  for (RemoteBatch& b : m.threads) {
+    const uint32_t t = r.get<uint32_t>("thread");
+    if (t >= 1u << 20) r.fail("thread", "index out of range");
+    b.thread = int(t);
+    b.updates = r.get<uint64_t>("updates");
+    b.samples = r.get<uint64_t>("samples");
+    b.dropped = r.get<uint64_t>("dropped");
+    b.busy_ns = r.get<uint64_t>("busy_ns");
+    b.slots.resize(r.count("slots", kSlotRecordBytes));
+    for (RemoteSlot& s : b.slots) {
+      s.slot = r.get<uint32_t>("slot");
+      s.state.count = r.get<uint32_t>("count");
+      s.state.epoch = r.get<uint32_t>("epoch");
+      for (int k = 0; k < 3; ++k) s.state.sample[k] = r.finite("sample");
+      for (int k = 0; k < 3; ++k) s.state.mean[k] = r.finite("mean");
+      s.state.variance = r.finite("variance");
+      if (s.state.variance < 0.0f) r.fail("variance", "negative");
+      s.state.time = r.finite("time");
+      s.state.levels = r.get<uint8_t>("levels");
+    }
+  }
+  r.end();
+  return m;
+}
+
+std::string build_identity() {
+  if (const char* o = std::getenv("FRAMELESS_TEST_BUILD_ID"); o && *o) return o;
+  return std::string("frameless ") + FRAMELESS_VERSION + " wire " + std::to_string(kWireVersion) +
+         " " + __VERSION__ + " pixel " + std::to_string(sizeof(PixelState));
+}
+
+}  // namespace frameless::cluster

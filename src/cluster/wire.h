@@ -1,0 +1,64 @@
+// The cluster's messages and their byte encoding (no MPI here: pure functions, fuzzed). Every
+// message starts with a magic number and the wire version; decoding checks every size, count
+// and value before use and names the field that is wrong in one line.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/geometry.h"
+#include "frameless/engine.h"
+
+namespace frameless::cluster {
+
+inline constexpr uint32_t kWireMagic = 0x31434c46u;  // "FLC1" read as little-endian bytes
+inline constexpr uint32_t kWireVersion = 1;
+
+// MPI tags: one kind of message per tag, so a receiver probes for exactly what it expects.
+enum Tag : int { kTagHello = 1, kTagVerdict = 2, kTagControl = 3, kTagUpdates = 4, kTagBye = 5, kTagPing = 6 };
+
+// Every rank, once, after loading the scene: who it is and whether it can render.
+struct Hello {
+  std::string build;             // build identity (version, wire version, compiler): must match
+  uint64_t scene_fingerprint = 0;  // what the rank loaded: must match the master's
+  uint32_t threads = 0;          // render threads it will run
+  std::string error;             // non-empty: it cannot take part (scene failed to load, ...)
+};
+
+// Master -> clients: only what changed since the last control message (differential), then
+// optionally a deterministic tick to render or the order to stop.
+struct Control {
+  std::optional<std::pair<uint32_t, Camera>> camera;  // epoch, camera
+  std::vector<float> world;                           // packed WorldState; empty: unchanged
+  std::vector<InstanceMove> moves;                    // moved instances; empty: none
+  std::optional<std::pair<uint64_t, double>> advance; // deterministic: tick index, seconds
+  bool stop = false;
+};
+
+// Client -> master: the news of its render threads. `tick` is the deterministic tick these
+// updates complete (~0 on the wall clock).
+struct Updates {
+  uint64_t tick = ~uint64_t(0);
+  std::vector<RemoteBatch> threads;
+};
+
+// Bytes of one pixel record on the wire (slot, count, epoch, sample, mean, variance, time, levels).
+inline constexpr size_t kSlotRecordBytes = 45;
+
+std::vector<uint8_t> encode(const Hello& m);
+std::vector<uint8_t> encode(const Control& m);
+std::vector<uint8_t> encode(const Updates& m);
+
+// Decoders: the message, or std::invalid_argument with "FIELD: problem" on anything malformed
+// (wrong magic or version, truncated, trailing bytes, counts beyond the message, non-finite).
+Hello decode_hello(const uint8_t* data, size_t size);
+Control decode_control(const uint8_t* data, size_t size);
+Updates decode_updates(const uint8_t* data, size_t size);
+
+// Build identity compared between ranks (FRAMELESS_TEST_BUILD_ID overrides it: tests stage a
+// mismatched build with it).
+std::string build_identity();
+
+}  // namespace frameless::cluster

@@ -1,0 +1,197 @@
+// The whole distribution layer over real Open MPI (mpirun on localhost): a deterministic capture
+// of R clients x T threads writes the same frames, bit for bit, as one process with R*T threads;
+// camera changes reach every client; a killed client ends the job in bounded time with the
+// manifest matching the files; a client that cannot start stops every rank with one line.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "display/exr_io.h"
+#include "mpi_run_util.h"
+
+namespace frameless::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBase =
+    "capture default --deterministic --size 48x36 --refresh 20 --layers all --no-mp4 "
+    "--no-contact-sheet";
+// An orbiting camera (a new camera every frame) with a cut.
+const std::string kCapture = kBase + " --duration 1 --orbit 25 --cut-at 0.3 --seed 3";
+
+std::vector<std::string> frames_in(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".exr") out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::string> manifest_frames(const fs::path& dir) {
+  std::ifstream in(dir / "manifest.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  std::vector<std::string> out;
+  if (j.is_discarded()) return {"<manifest unreadable>"};
+  for (const auto& f : j["frames"]) out.push_back(f["file"].get<std::string>());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void expect_same_frames(const fs::path& a, const fs::path& b) {
+  const std::vector<std::string> fa = frames_in(a), fb = frames_in(b);
+  ASSERT_EQ(fa, fb);
+  ASSERT_EQ(fa.size(), 20u);
+  for (const std::string& f : fa) {
+    auto ia = read_exr((a / f).string()), ib = read_exr((b / f).string());
+    ASSERT_TRUE(ia.ok() && ib.ok()) << f;
+    ASSERT_EQ(ia->channels.size(), 8u) << f;  // R G B + age count variance epoch levels
+    for (const auto& [name, values] : ia->channels) {
+      ASSERT_TRUE(ib->channels.count(name)) << f << " " << name;
+      EXPECT_EQ(values, ib->channels.at(name)) << f << " channel " << name;
+    }
+  }
+}
+
+TEST(ClusterCapture, DeterministicThreeRanksEqualOneProcessWithTwoThreads) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_det");
+  const CommandResult c = run_cluster(3, kCapture + " --threads 1 --out " + (dir / "cluster").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const CommandResult s = run_frameless(kCapture + " --threads 2 --out " + (dir / "single").string());
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  expect_same_frames(dir / "cluster", dir / "single");
+  // Another seed renders other frames: the comparison above can tell frames apart.
+  const CommandResult o = run_frameless(kBase + " --duration 1 --orbit 25 --cut-at 0.3 --seed 4 --threads 2 --out " + (dir / "other").string());
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  auto x = read_exr((dir / "single" / "frame_00019.exr").string());
+  auto y = read_exr((dir / "other" / "frame_00019.exr").string());
+  ASSERT_TRUE(x.ok() && y.ok());
+  EXPECT_NE(x->channels.at("R"), y->channels.at("R"));
+}
+
+TEST(ClusterCapture, DeterministicTwoClientsOfTwoThreadsEqualOneProcessWithFour) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_det4");
+  const CommandResult c = run_cluster(3, kCapture + " --threads 2 --out " + (dir / "cluster").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const CommandResult s = run_frameless(kCapture + " --threads 4 --out " + (dir / "single").string());
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  expect_same_frames(dir / "cluster", dir / "single");
+}
+
+TEST(ClusterCapture, CameraCutReachesEveryClientsPixels) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_cut");
+  const CommandResult c = run_cluster(3, kBase + " --duration 2 --cut-at 0.3 --threads 1 --out " + dir.string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  auto first = read_exr((dir / "frame_00000.exr").string());
+  auto last = read_exr((dir / "frame_00039.exr").string());
+  ASSERT_TRUE(first.ok() && last.ok());
+  const std::vector<float>& e0 = first->channels.at("epoch");
+  const std::vector<float>& e1 = last->channels.at("epoch");
+  const float newest = *std::max_element(e1.begin(), e1.end());
+  EXPECT_GT(newest, *std::max_element(e0.begin(), e0.end()));
+  // Every pixel, whichever client owns it, shows the newest camera's samples at the end.
+  size_t stale = 0;
+  for (float v : e1) stale += v != newest;
+  EXPECT_EQ(stale, 0u);
+}
+
+// The process of rank `rank` of the job writing into `marker` (found by its command line).
+int find_rank_pid(const std::string& marker, int rank) {
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream cmd(e.path() / "cmdline"), env(e.path() / "environ");
+    std::string c((std::istreambuf_iterator<char>(cmd)), {}), v((std::istreambuf_iterator<char>(env)), {});
+    if (c.find(marker) == std::string::npos || c.find("mpirun") != std::string::npos) continue;
+    if (v.find(std::string("OMPI_COMM_WORLD_RANK=") + std::to_string(rank) + '\0') != std::string::npos)
+      return std::stoi(name);
+  }
+  return -1;
+}
+
+TEST(ClusterCapture, KilledClientEndsTheJobAndTheManifestMatchesTheFiles) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_kill");
+  const std::string out = (dir / "out").string();
+  std::atomic<int> killed_pid{-1};
+  std::chrono::steady_clock::time_point killed_at;
+  std::thread killer([&] {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < give_up) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (manifest_frames(out).size() < 3) continue;  // the capture is under way
+      const int pid = find_rank_pid(out, 2);
+      if (pid > 0) {
+        killed_at = std::chrono::steady_clock::now();
+        ::kill(pid, SIGKILL);
+        killed_pid = pid;
+        return;
+      }
+    }
+  });
+  const CommandResult r = run_cluster(
+      3, "capture default --size 64x48 --threads 1 --refresh 10 --duration 100 --no-mp4 --out " + out);
+  const auto ended = std::chrono::steady_clock::now();
+  killer.join();
+  ASSERT_GT(killed_pid.load(), 0) << r.output;
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_LT(std::chrono::duration<double>(ended - killed_at).count(), 30.0);  // bounded, no hang
+  EXPECT_NE(r.output.find("rank 2"), std::string::npos) << r.output;          // names the rank
+  // Frames written before the fault stay, and the manifest lists exactly them.
+  const std::vector<std::string> on_disk = frames_in(out), listed = manifest_frames(out);
+  EXPECT_GE(listed.size(), 3u);
+  EXPECT_EQ(on_disk, listed);
+  for (const std::string& f : listed) EXPECT_TRUE(read_exr(out + "/" + f).ok()) << f;
+}
+
+// MPMD: rank 0 runs `master_args`, rank 1 `client_args` (with `client_env` set).
+CommandResult run_pair(const std::string& master_args, const std::string& client_args,
+                       const std::string& client_env = "") {
+  return run_shell(std::string(kMpirun) + " -np 1 " + FRAMELESS_BINARY + " " + master_args + " : -np 1 " +
+                   client_env + " " + FRAMELESS_BINARY + " " + client_args);
+}
+
+int lines_with(const std::string& text, const std::string& needle) {
+  int n = 0;
+  size_t at = 0;
+  while ((at = text.find(needle, at)) != std::string::npos) ++n, ++at;
+  return n;
+}
+
+TEST(ClusterCapture, ClientThatCannotStartStopsEveryRankWithOneLine) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_bad");
+  const std::string out = " --out " + (dir / "out").string();
+  const std::string base = "capture --deterministic --size 32x24 --duration 0.2 --no-mp4";
+  struct Case {
+    std::string client, env, expect;
+  };
+  for (const Case& k : {Case{"no_such_scene.json", "", "frameless: cluster: rank 1: "},
+                        Case{"balls", "", "rank 1 loaded another scene"},
+                        Case{"default", "-x FRAMELESS_TEST_BUILD_ID=other-build", "rank 1 runs another build"}}) {
+    const CommandResult r = run_pair(base + " default" + out, base + " " + k.client + out, k.env);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(k.expect), std::string::npos) << r.output;
+    EXPECT_EQ(lines_with(r.output, "frameless:"), 1) << r.output;  // one line, from the master
+    EXPECT_TRUE(frames_in(dir / "out").empty());
+  }
+}
+
+TEST(ClusterCapture, ConventionalModeIsRefusedOnEveryRank) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_conv");
+  const CommandResult r = run_cluster(2, "capture --mode conventional --size 32x24 --duration 0.2 --out " + dir.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(lines_with(r.output, "frameless:"), 1) << r.output;
+}
+
+}  // namespace
+}  // namespace frameless::test

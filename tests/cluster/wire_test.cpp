@@ -1,0 +1,185 @@
+// The cluster's wire format: every message survives a round trip exactly, and every malformed
+// message (truncated anywhere, wrong magic or version, counts beyond the message, non-finite
+// values, trailing bytes) is refused with a one-line std::invalid_argument, never read past.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "cluster/wire.h"
+
+namespace frameless::cluster {
+namespace {
+
+Updates sample_updates() {
+  Updates u;
+  u.tick = 42;
+  for (int t = 3; t < 5; ++t) {
+    RemoteBatch b;
+    b.thread = t;
+    b.updates = 1000 + t;
+    b.samples = 2000 + t;
+    b.dropped = t;
+    b.busy_ns = 123456789;
+    for (uint32_t s = 0; s < 3; ++s) {
+      RemoteSlot r;
+      r.slot = 100 * uint32_t(t) + s;
+      r.state.count = 5 + s;
+      r.state.epoch = 2;
+      r.state.sample = Vec3(0.1f * float(s), 1e-30f, 65504.0f);
+      r.state.mean = Vec3(0.25f, 0.5f, 0.75f);
+      r.state.variance = 0.01f * float(s);
+      r.state.time = 1.5f;
+      r.state.levels = uint8_t(s * 7);
+      b.slots.push_back(r);
+    }
+    u.threads.push_back(b);
+  }
+  return u;
+}
+
+Control sample_control() {
+  Control c;
+  Camera cam;
+  cam.eye = {1, 2, 3};
+  cam.look = {0, 0, 0};
+  cam.up = {0, 1, 0};
+  cam.fov_deg = 50;
+  c.camera.emplace(7u, cam);
+  c.world = {1.0f, -2.0f, 3.5f};
+  Affine a;
+  a.t = {4, 5, 6};
+  a.m[1][2] = 0.5f;
+  c.moves.push_back({9, a});
+  c.advance.emplace(12u, 1.0 / 30.0);
+  return c;
+}
+
+TEST(Wire, UpdatesRoundTripExactly) {
+  const Updates u = sample_updates();
+  const std::vector<uint8_t> bytes = encode(u);
+  EXPECT_EQ(bytes.size(), 8 + 8 + 4 + 2 * (4 + 32 + 4 + 3 * kSlotRecordBytes));
+  const Updates d = decode_updates(bytes.data(), bytes.size());
+  EXPECT_EQ(d.tick, 42u);
+  ASSERT_EQ(d.threads.size(), 2u);
+  for (size_t t = 0; t < 2; ++t) {
+    const RemoteBatch &a = u.threads[t], &b = d.threads[t];
+    EXPECT_EQ(a.thread, b.thread);
+    EXPECT_EQ(a.updates, b.updates);
+    EXPECT_EQ(a.samples, b.samples);
+    EXPECT_EQ(a.dropped, b.dropped);
+    EXPECT_EQ(a.busy_ns, b.busy_ns);
+    ASSERT_EQ(a.slots.size(), b.slots.size());
+    for (size_t s = 0; s < a.slots.size(); ++s) {
+      const PixelSnapshot &x = a.slots[s].state, &y = b.slots[s].state;
+      EXPECT_EQ(a.slots[s].slot, b.slots[s].slot);
+      EXPECT_EQ(x.count, y.count);
+      EXPECT_EQ(x.epoch, y.epoch);
+      EXPECT_EQ(x.sample, y.sample);
+      EXPECT_EQ(x.mean, y.mean);
+      EXPECT_EQ(x.variance, y.variance);
+      EXPECT_EQ(x.time, y.time);
+      EXPECT_EQ(x.levels, y.levels);
+    }
+  }
+}
+
+TEST(Wire, ControlAndHelloRoundTrip) {
+  const Control c = sample_control();
+  const std::vector<uint8_t> bytes = encode(c);
+  const Control d = decode_control(bytes.data(), bytes.size());
+  ASSERT_TRUE(d.camera);
+  EXPECT_EQ(d.camera->first, 7u);
+  EXPECT_EQ(d.camera->second.eye, c.camera->second.eye);
+  EXPECT_EQ(d.world, c.world);
+  ASSERT_EQ(d.moves.size(), 1u);
+  EXPECT_EQ(d.moves[0].index, 9u);
+  EXPECT_EQ(d.moves[0].to_world.m, c.moves[0].to_world.m);
+  EXPECT_EQ(d.moves[0].to_world.t, c.moves[0].to_world.t);
+  ASSERT_TRUE(d.advance);
+  EXPECT_EQ(d.advance->first, 12u);
+  EXPECT_EQ(d.advance->second, 1.0 / 30.0);
+  EXPECT_FALSE(d.stop);
+  Control stop;
+  stop.stop = true;
+  const std::vector<uint8_t> sb = encode(stop);
+  const Control ds = decode_control(sb.data(), sb.size());
+  EXPECT_TRUE(ds.stop);
+  EXPECT_FALSE(ds.camera || ds.advance || !ds.world.empty() || !ds.moves.empty());
+
+  Hello h;
+  h.build = "b";
+  h.scene_fingerprint = 99;
+  h.threads = 4;
+  h.error = "x.json: no such file";
+  const std::vector<uint8_t> hb = encode(h);
+  const Hello dh = decode_hello(hb.data(), hb.size());
+  EXPECT_EQ(dh.build, "b");
+  EXPECT_EQ(dh.scene_fingerprint, 99u);
+  EXPECT_EQ(dh.threads, 4u);
+  EXPECT_EQ(dh.error, h.error);
+}
+
+template <class F>
+std::string refusal(F decode, const std::vector<uint8_t>& bytes) {
+  try {
+    decode(bytes.data(), bytes.size());
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Wire, EveryTruncationIsRefusedWithOneLine) {
+  const auto updates = [](const uint8_t* p, size_t n) { return decode_updates(p, n); };
+  const auto control = [](const uint8_t* p, size_t n) { return decode_control(p, n); };
+  for (const auto& [bytes, is_updates] :
+       {std::pair{encode(sample_updates()), true}, std::pair{encode(sample_control()), false}}) {
+    for (size_t n = 0; n < bytes.size(); ++n) {
+      const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + std::ptrdiff_t(n));
+      const std::string why = is_updates ? refusal(updates, cut) : refusal(control, cut);
+      ASSERT_FALSE(why.empty()) << n << " of " << bytes.size() << " bytes accepted";
+      EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    }
+    std::vector<uint8_t> longer = bytes;
+    longer.push_back(0);
+    const std::string why = is_updates ? refusal(updates, longer) : refusal(control, longer);
+    EXPECT_NE(why.find("trailing"), std::string::npos) << why;
+  }
+}
+
+TEST(Wire, BadFieldsAreNamed) {
+  const auto updates = [](const uint8_t* p, size_t n) { return decode_updates(p, n); };
+  std::vector<uint8_t> b = encode(sample_updates());
+  b[0] ^= 1;
+  EXPECT_NE(refusal(updates, b).find("updates.magic"), std::string::npos);
+  b = encode(sample_updates());
+  b[4] = 9;
+  EXPECT_NE(refusal(updates, b).find("updates.version"), std::string::npos);
+  // A slot count of 2^32-1 in a short message: refused before anything is allocated.
+  b = encode(sample_updates());
+  const size_t slots_at = 8 + 8 + 4 + 4 + 32;
+  const uint32_t huge = 0xffffffffu;
+  std::memcpy(b.data() + slots_at, &huge, 4);
+  EXPECT_NE(refusal(updates, b).find("updates.slots: count beyond the message"), std::string::npos);
+  // A NaN sample.
+  b = encode(sample_updates());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(b.data() + slots_at + 4 + 12, &nan, 4);
+  EXPECT_NE(refusal(updates, b).find("updates.sample: not finite"), std::string::npos);
+  // A control message with an unknown kind bit, and an advance of zero seconds.
+  const auto control = [](const uint8_t* p, size_t n) { return decode_control(p, n); };
+  Control c;
+  c.advance.emplace(1u, 0.5);
+  b = encode(c);
+  b[8] |= 0x80;
+  EXPECT_NE(refusal(control, b).find("control.kind"), std::string::npos);
+  b = encode(c);
+  const double zero = 0.0;
+  std::memcpy(b.data() + b.size() - 8, &zero, 8);
+  EXPECT_NE(refusal(control, b).find("control.advance.seconds"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace frameless::cluster
