@@ -128,8 +128,10 @@ void check_image(const Image& img) {
     }
 }
 
-// The invariants scene_io.h documents for MeshData (what add_mesh relies on).
-void check_mesh(const MeshData& m) {
+// The invariants scene_io.h documents for MeshData (what add_mesh relies on). A shared mesh
+// uses its model's materials: `materials` is their count (~0: the mesh's own).
+void check_mesh(const MeshData& m, size_t materials = ~size_t(0)) {
+  if (materials == ~size_t(0)) materials = m.materials.size();
   const size_t nv = m.positions.size();
   for (const Vec3& p : m.positions)
     if (!finite(p)) broken("mesh has a non-finite position", "");
@@ -143,7 +145,7 @@ void check_mesh(const MeshData& m) {
     if (m.face_material.size() != m.triangles.size())
       broken("face_material is neither empty nor one per triangle", "");
     for (uint16_t f : m.face_material)
-      if (f >= m.materials.size()) broken("face_material out of range", std::to_string(f));
+      if (f >= materials) broken("face_material out of range", std::to_string(f));
   }
   for (const Material& mat : m.materials) {
     for (uint32_t t : {mat.kd_tex, mat.kh_tex, mat.ks_tex, mat.alpha_tex, mat.normal_tex,
@@ -156,9 +158,7 @@ void check_mesh(const MeshData& m) {
   // Shared meshes (glTF meshes several nodes place): each valid on its own, with the model's
   // materials, and every placement naming one with an invertible, finite transform.
   for (const MeshData& sm : m.shared) {
-    check_mesh(sm);
-    for (uint16_t f : sm.face_material)
-      if (f >= m.materials.size()) broken("shared mesh face_material out of range", std::to_string(f));
+    check_mesh(sm, m.materials.size());
   }
   for (const MeshPlacement& p : m.placements) {
     if (p.mesh >= m.shared.size()) broken("placement of a shared mesh out of range", std::to_string(p.mesh));
