@@ -4,6 +4,7 @@
 
 #include "core/scene_io.h"
 #include "display/glfw_viewer.h"
+#include "tools/cluster_join.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 #include "tools/engine_flags.h"
@@ -43,11 +44,27 @@ int run(const ViewArgs& a) {
   if (!parse_view(a.view, o.view))
     return report_error("--view: unknown view '" + a.view +
                         "' (shaded, age, count, variance, epoch, levels)");
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
-  if (!scene) return 2;
-  o.camera = scene->camera;
-  if (!a.camera.apply(o.camera, error)) return report_error(error);
+  ClusterJoin cluster;
+  if (!cluster.start(error)) return report_error(error);
+  std::string load_error;
+  std::unique_ptr<Scene> scene = load_scene_checked(a.scene, &a.shadows, load_error);
+  if (scene) {
+    o.camera = scene->camera;
+    if (!a.camera.apply(o.camera, load_error)) scene.reset();
+  }
+  // Under mpirun: clients serve here until the viewer closes; the master shows their pixels.
+  if (int code = cluster.join(scene.get(), load_error, e, o.camera); code >= 0) return code;
   o.title = "frameless - " + a.scene;
+  if (cluster.master()) {
+    o.fixed_layout = true;
+    o.engine_hook = [&](Engine* engine) {
+      if (engine)
+        cluster.session->attach(*engine, *scene);
+      else
+        cluster.session->detach();
+    };
+    o.title += " - " + std::to_string(cluster.session->clients()) + " clients";
+  }
   auto r = run_viewer(*scene, o);
   if (!r.ok()) {
     std::fprintf(stderr, "frameless: %s\n", r.error().message.c_str());

@@ -129,7 +129,9 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
       u.threads = collector.take(engine);
       d.link->send(0, kTagUpdates, encode(u));
     };
-    engine.start();
+    // The engine starts with the master's first control message (attach() always sends one):
+    // before that the master may not be receiving, and a large send would block this loop.
+    bool attached = false;
     std::vector<uint8_t> bytes;
     auto last = std::chrono::steady_clock::now();
     auto nap = std::chrono::microseconds(20);
@@ -138,6 +140,11 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
       while (d.link->poll(0, kTagControl, bytes)) {
         busy = true;
         Control m = decode_control(bytes.data(), bytes.size());
+        if (!attached) {
+          engine.start();
+          attached = true;
+          last = std::chrono::steady_clock::now();
+        }
         if (m.camera) engine.publish_camera_as(m.camera->second, m.camera->first);
         if (!m.world.empty()) {
           WorldState w = initial_world(scene);
@@ -163,7 +170,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
       }
       while (d.link->poll(0, kTagPing, bytes)) d.link->send(0, kTagPing, bytes);
       if (stop) break;
-      if (!c.deterministic) {
+      if (attached && !c.deterministic) {
         if (auto e = engine.error()) throw std::runtime_error("render thread failed: " + *e);
         const auto now = std::chrono::steady_clock::now();
         if (now - last >= std::chrono::duration<double, std::milli>(o.batch_ms)) {
@@ -176,7 +183,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
         nap = std::chrono::microseconds(20);
       } else {
         std::this_thread::sleep_for(nap);
-        nap = std::min(nap * 2, std::chrono::microseconds(500));
+        nap = std::min(nap * 2, std::chrono::microseconds(100));
       }
     }
     engine.stop();
@@ -198,7 +205,9 @@ void Session::attach(Engine& engine, const Scene& scene) {
     for (uint32_t p : top->position) d.sent_transforms.push_back(top->instances[p].to_world);
   if (engine.config().deterministic) {
     engine.set_remote_advance([&d](uint64_t tick, double seconds) { d.advance_round(tick, seconds); });
-  } else {
+  }
+  d.send_all(d.changes());  // always one message: the clients start rendering now
+  if (!engine.config().deterministic) {
     d.comm_stop.store(false);
     d.comm = std::thread([&d] { d.comm_main(); });
   }

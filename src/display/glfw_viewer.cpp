@@ -120,6 +120,16 @@ struct Viewer {
     switch (k) {
       case GLFW_KEY_ESCAPE: quit = true; break;
       case GLFW_KEY_R: set_camera(home); break;
+      case GLFW_KEY_M: case GLFW_KEY_COMMA: case GLFW_KEY_PERIOD: case GLFW_KEY_G: case GLFW_KEY_T:
+        if (opt.fixed_layout) {
+          status = "cluster: mode, threads, update % fixed";
+          dirty = true;
+          return;
+        }
+        break;
+      default: break;
+    }
+    switch (k) {
       case GLFW_KEY_M:
         engine->set_mode(engine->config().mode == RenderMode::frameless ? RenderMode::conventional
                                                                         : RenderMode::frameless);
@@ -337,8 +347,10 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
 
   // The framebuffer may differ from the requested size (HiDPI, window managers): render that size.
   EngineConfig ec = opt.engine;
-  glfwGetFramebufferSize(window, &ec.width, &ec.height);
-  ec.width = std::max(ec.width, 1), ec.height = std::max(ec.height, 1);
+  if (!opt.fixed_layout) {
+    glfwGetFramebufferSize(window, &ec.width, &ec.height);
+    ec.width = std::max(ec.width, 1), ec.height = std::max(ec.height, 1);
+  }
   Engine engine(scene, ec, opt.camera);
   DisplayConfig dc;
   dc.refresh_hz = opt.refresh_hz;
@@ -379,6 +391,14 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
   });
 
   engine.start();
+  // Detaches on every way out of this function, before the engine goes.
+  struct Hooked {
+    const std::function<void(Engine*)>& hook;
+    ~Hooked() {
+      if (hook) hook(nullptr);
+    }
+  } hooked{opt.engine_hook};
+  if (opt.engine_hook) opt.engine_hook(&engine);
   display.start();
   WorldState world = engine.world();  // lights the arrow keys move (published like the camera)
   size_t next_script = 0;
@@ -414,7 +434,8 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
     while (next_script < script.size() && script[next_script].time <= t) v.run_script(script[next_script++]);
     // Re-partition once the window has stopped changing size for a moment.
     if (v.pending_w > 0 && t - v.pending_since > 0.15) {
-      if (v.pending_w != engine.width() || v.pending_h != engine.height()) engine.resize(v.pending_w, v.pending_h);
+      if (!opt.fixed_layout && (v.pending_w != engine.width() || v.pending_h != engine.height()))
+        engine.resize(v.pending_w, v.pending_h);
       v.pending_w = v.pending_h = 0;
     }
     if (auto e = engine.error()) return Error{"render thread failed: " + *e};

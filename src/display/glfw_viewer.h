@@ -2,6 +2,7 @@
 // GlPresenter, with orbit/pan/zoom/fly controls, live settings and a text overlay. Runs on the
 // main thread, which owns the window and its GL context; the engine and display thread run beside it.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "frameless/engine_config.h"
 
 namespace frameless {
+
+class Engine;
 
 struct ViewerOptions {
   EngineConfig engine;            // size = initial window size; threads, mode, seed, ...
@@ -26,6 +29,11 @@ struct ViewerOptions {
   std::string snapshot_dir = "captures";  // where P saves EXR snapshots
   bool show_help = false;         // start with the help panel open
   ViewMode view = ViewMode::shaded;  // the view shown first (V cycles)
+  // Cluster master (tools/cluster_join.h): called with the engine right after it started and
+  // with null before it stops (on every exit); the clients render the layout they were given, so
+  // the image keeps opt.engine's size (the window scales it) and M, G, T, ',' and '.' are off.
+  std::function<void(Engine*)> engine_hook;
+  bool fixed_layout = false;
 };
 
 // Opens the window and runs until it is closed (Esc), the script quits or max_frames is reached.

@@ -9,9 +9,9 @@
 
 namespace frameless::test {
 
-inline const char* kMpirun =
-    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
-    "timeout 120 mpirun --oversubscribe";
+inline const std::string kMpiEnv =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1";
+inline const std::string kMpirun = kMpiEnv + " timeout 120 mpirun --oversubscribe";
 
 inline CommandResult run_shell(const std::string& cmd) {
   CommandResult r;
