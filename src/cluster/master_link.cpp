@@ -88,7 +88,7 @@ void Session::Impl::comm_main() {
       nap = std::chrono::microseconds(20);
     } else {
       std::this_thread::sleep_for(nap);
-      nap = std::min(nap * 2, std::chrono::microseconds(100));
+      nap = std::min(nap * 2, std::chrono::microseconds(1000));
     }
     std::lock_guard<std::mutex> lock(stats_mutex);
     stats.comm_cpu_seconds = thread_cpu_seconds() - cpu0;

@@ -2,6 +2,8 @@
 #include "cluster/mpi_link.h"
 
 #include <mpi.h>
+#include <sched.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -26,6 +28,14 @@ MpiLink::MpiLink() {
     throw std::runtime_error("cluster: this MPI cannot serve a communication thread (MPI_THREAD_SERIALIZED)");
   }
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+  // mpirun binds each rank to one core by default (-np 2 and up to the core count): a rank runs
+  // a multithreaded render loop, so it takes back every core of its node before any thread
+  // starts (threads inherit this mask). Where the system forbids it, the binding stays.
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  for (long c = 0; c < cpus && c < CPU_SETSIZE; ++c) CPU_SET(int(c), &all);
+  sched_setaffinity(0, sizeof all, &all);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }
