@@ -29,6 +29,7 @@ namespace frameless::cli {
 namespace {
 
 struct Args {
+  ClusterFlags cluster;
   ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "640x360";
@@ -147,7 +148,8 @@ nlohmann::json run_job(const Args& a, int ranks, std::string& error) {
   const std::string cmd = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np " +
                           std::to_string(ranks) + " " + shell_quote(self) + " bench cluster --one " +
                           shell_quote(a.scene) + " --size " + a.size + " --threads " + std::to_string(a.threads) +
-                          " --seconds " + std::to_string(a.seconds) + " 2>&1";
+                          " --seconds " + std::to_string(a.seconds) + " --cluster-wire " + shell_quote(a.cluster.wire) +
+                          " --cluster-batch-ms " + std::to_string(a.cluster.batch_ms) + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -172,8 +174,11 @@ int run(const Args& a) {
   if (a.threads < 1 || a.threads > 256) return report_error("--threads: must be 1..256 per client");
   if (a.clients < 1 || a.clients > 64) return report_error("--clients: must be 1..64");
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
+  if (a.cluster.wire != "exact" && a.cluster.wire != "rgbe")
+    return report_error("--cluster-wire: expected exact or rgbe, got '" + a.cluster.wire + "'");
   c.threads = a.threads;
   ClusterJoin cluster;
+  cluster.flags = a.cluster;
   if (!cluster.start(error)) return report_error(error);
   if (!cluster.session && a.one) return report_error("--one: run under mpirun -np N (N >= 2)");
   std::string load_error;
@@ -183,7 +188,8 @@ int run(const Args& a) {
   try {
     if (cluster.master()) {  // one job: this rank leads it
       cluster::Session& s = *cluster.session;
-      nlohmann::json j = {{"ranks", s.size()}, {"clients", s.clients()}, {"threads_per_client", a.threads}};
+      nlohmann::json j = {{"ranks", s.size()}, {"clients", s.clients()}, {"threads_per_client", a.threads},
+                          {"wire", a.cluster.wire}};
       j["request_rtt_us"] = ping(s);
       j.update(measure(*scene, c, scene->camera, a.seconds,
                        [&](Engine* e) { e ? s.attach(*e, *scene) : s.detach(); }, &s));
@@ -209,6 +215,7 @@ int run(const Args& a) {
     }
     nlohmann::json out = bench_header("cluster", scene.get(), a.scene,
                                       {{"size", a.size}, {"threads_per_client", a.threads},
+                                       {"wire", a.cluster.wire}, {"batch_ms", a.cluster.batch_ms},
                                        {"seconds", a.seconds}, {"max_clients", a.clients}});
     out["single_process"] = single;
     out["cluster"] = runs;
@@ -247,6 +254,7 @@ const bool registered = register_command(
       auto a = std::make_shared<Args>();
       app.add_option("scene", a->scene, "built-in name, .json scene or model")->capture_default_str();
       a->shadows.add_to(app);
+      a->cluster.add_to(app);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads, "render threads per client (and of the one process)")
           ->capture_default_str();

@@ -17,6 +17,7 @@ namespace frameless::cli {
 namespace {
 
 struct CaptureArgs {
+  ClusterFlags cluster;
   ShadowFlags shadows;
   std::string scene = "default";
   std::string out = "captures/capture";
@@ -69,6 +70,7 @@ int run(const CaptureArgs& a) {
   o.blend.converge = !a.no_converge;
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
   ClusterJoin cluster;
+  cluster.flags = a.cluster;
   if (!cluster.start(error)) return report_error(error);
   std::string load_error;
   std::unique_ptr<Scene> scene;
@@ -140,6 +142,7 @@ const bool registered = register_command(
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
       a->shadows.add_to(app);
+      a->cluster.add_to(app);
       app.add_option("--out", a->out, "output folder (frames, manifest.json, contact_sheet.png)")
           ->capture_default_str();
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();

@@ -4,13 +4,23 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "cluster/cluster.h"
 #include "frameless/engine_config.h"
 
 namespace frameless::cli {
 
+// The cluster's command-line options (used only under mpirun).
+struct ClusterFlags {
+  std::string wire = "exact";
+  double batch_ms = 4.0;
+  void add_to(CLI::App& app);
+};
+
 struct ClusterJoin {
   std::unique_ptr<cluster::Session> session;  // null: a single process (no mpirun, or -np 1)
+  ClusterFlags flags;                         // set before join()
 
   // Starts MPI when launched by mpirun with 2+ ranks; false (error set) when it cannot.
   bool start(std::string& error);

@@ -13,6 +13,7 @@ namespace frameless::cli {
 namespace {
 
 struct ViewArgs {
+  ClusterFlags cluster;
   ShadowFlags shadows;
   std::string scene = "default";
   std::string size = "640x480";
@@ -45,6 +46,7 @@ int run(const ViewArgs& a) {
     return report_error("--view: unknown view '" + a.view +
                         "' (shaded, age, count, variance, epoch, levels)");
   ClusterJoin cluster;
+  cluster.flags = a.cluster;
   if (!cluster.start(error)) return report_error(error);
   std::string load_error;
   std::unique_ptr<Scene> scene = load_scene_checked(a.scene, &a.shadows, load_error);
@@ -80,6 +82,7 @@ const bool registered = register_command(
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
       a->shadows.add_to(app);
+      a->cluster.add_to(app);
       app.add_option("--size", a->size, "window size WxH")->capture_default_str();
       app.add_option("--refresh", a->refresh, "display refresh rate, 1..240 Hz")->capture_default_str();
       a->engine.add_to(app);

@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "cluster/wire.h"
 #include "core/scene.h"
 #include "frameless/engine.h"
 
@@ -27,8 +28,8 @@ uint64_t scene_fingerprint(const Scene& scene);
 
 // Wire and batching options (the command line's --cluster-* flags).
 struct ClusterOptions {
-  double batch_ms = 4.0;      // a client sends what changed at least this often (wall clock)
-  size_t batch_kb = 256;      // ... or as soon as this much is waiting
+  double batch_ms = 4.0;                   // a client sends what changed this often (wall clock)
+  WireFormat wire = WireFormat::exact;     // pixel records: exact, or rgbe (wall clock only)
 };
 
 // Traffic and timing counters of the master's communication (bench cluster reads them).

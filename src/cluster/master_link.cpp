@@ -29,8 +29,9 @@ Control Session::Impl::changes() {
   if (const uint32_t i = engine->instances_epoch(); i != sent_instances_epoch) {
     // Only the instances whose transform differs from what the clients have (attach() filled
     // sent_transforms with the declared ones: what every client built).
-    for (uint32_t k = 0; k < sent_transforms.size(); ++k) {
-      const Affine a = engine->instance_transform(k);
+    const std::shared_ptr<const InstanceTop> top = engine->instance_top();  // one snapshot
+    for (uint32_t k = 0; top && k < sent_transforms.size() && k < top->position.size(); ++k) {
+      const Affine& a = top->instances[top->position[k]].to_world;
       const Affine& old = sent_transforms[k];
       if (a.m != old.m || a.t != old.t) {
         c.moves.push_back({k, a});

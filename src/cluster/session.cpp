@@ -126,6 +126,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
     auto send = [&](uint64_t tick) {
       Updates u;
       u.tick = tick;
+      u.format = c.deterministic ? WireFormat::exact : o.wire;
       u.threads = collector.take(engine);
       d.link->send(0, kTagUpdates, encode(u));
     };

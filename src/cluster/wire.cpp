@@ -2,6 +2,7 @@
 // arrays, every read bounds-checked.
 #include "cluster/wire.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -189,11 +190,51 @@ Control decode_control(const uint8_t* data, size_t size) {
   return m;
 }
 
+void encode_rgbe(const Vec3& c, uint8_t out[4]) {
+  const float r = std::max(c.x, 0.0f), g = std::max(c.y, 0.0f), b = std::max(c.z, 0.0f);
+  const float v = std::max({r, g, b});
+  if (!(v >= 1e-32f)) {
+    out[0] = out[1] = out[2] = out[3] = 0;
+    return;
+  }
+  int e = 0;
+  const float scale = std::frexp(v, &e) * 256.0f / v;  // v = m 2^e, m in [0.5, 1)
+  if (e > 127) e = 127, out[0] = out[1] = out[2] = 255;  // beyond any radiance: saturate
+  else
+    for (int k = 0; k < 3; ++k) out[k] = uint8_t(std::min(255.0f, c[k] > 0 ? c[k] * scale : 0.0f));
+  out[3] = uint8_t(e + 128);
+}
+
+Vec3 decode_rgbe(const uint8_t in[4]) {
+  if (in[3] == 0) return Vec3(0.0f);
+  const float f = std::ldexp(1.0f, int(in[3]) - (128 + 8));
+  return Vec3((float(in[0]) + 0.5f) * f, (float(in[1]) + 0.5f) * f, (float(in[2]) + 0.5f) * f);
+}
+
+namespace {
+
+uint16_t to_bfloat16(float v) {
+  uint32_t u;
+  std::memcpy(&u, &v, 4);
+  u += 0x7fffu + ((u >> 16) & 1u);  // round to nearest even (finite, non-negative inputs)
+  return uint16_t(u >> 16);
+}
+
+float from_bfloat16(uint16_t h) {
+  const uint32_t u = uint32_t(h) << 16;
+  float v;
+  std::memcpy(&v, &u, 4);
+  return v;
+}
+
+}  // namespace
+
 std::vector<uint8_t> encode(const Updates& m) {
   size_t slots = 0;
   for (const RemoteBatch& b : m.threads) slots += b.slots.size();
-  Writer w(32 + 40 * m.threads.size() + kSlotRecordBytes * slots);
+  Writer w(32 + 40 * m.threads.size() + record_bytes(m.format) * slots);
   w.put(m.tick);
+  w.put(uint32_t(m.format));
   w.put(uint32_t(m.threads.size()));
   for (const RemoteBatch& b : m.threads) {
     w.put(uint32_t(b.thread));
@@ -206,9 +247,17 @@ std::vector<uint8_t> encode(const Updates& m) {
       w.put(s.slot);
       w.put(s.state.count);
       w.put(s.state.epoch);
-      for (int k = 0; k < 3; ++k) w.put(s.state.sample[k]);
-      for (int k = 0; k < 3; ++k) w.put(s.state.mean[k]);
-      w.put(s.state.variance);
+      if (m.format == WireFormat::rgbe) {
+        uint8_t rgbe[8];
+        encode_rgbe(s.state.sample, rgbe);
+        encode_rgbe(s.state.mean, rgbe + 4);
+        for (uint8_t byte : rgbe) w.put(byte);
+        w.put(to_bfloat16(s.state.variance));
+      } else {
+        for (int k = 0; k < 3; ++k) w.put(s.state.sample[k]);
+        for (int k = 0; k < 3; ++k) w.put(s.state.mean[k]);
+        w.put(s.state.variance);
+      }
       w.put(s.state.time);
       w.put(s.state.levels);
     }
@@ -220,6 +269,10 @@ Updates decode_updates(const uint8_t* data, size_t size) {
   Reader r(data, size, "updates");
   Updates m;
   m.tick = r.get<uint64_t>("tick");
+  const uint32_t format = r.get<uint32_t>("format");
+  if (format > uint32_t(WireFormat::rgbe)) r.fail("format", "unknown wire format " + std::to_string(format));
+  m.format = WireFormat(format);
+  const size_t record = record_bytes(m.format);
   const uint32_t threads = r.count("threads", 40);
   if (threads > 1024) r.fail("threads", "more than 1024");
   m.threads.resize(threads);
@@ -231,14 +284,27 @@ Updates decode_updates(const uint8_t* data, size_t size) {
     b.samples = r.get<uint64_t>("samples");
     b.dropped = r.get<uint64_t>("dropped");
     b.busy_ns = r.get<uint64_t>("busy_ns");
-    b.slots.resize(r.count("slots", kSlotRecordBytes));
+    b.slots.resize(r.count("slots", record));
     for (RemoteSlot& s : b.slots) {
       s.slot = r.get<uint32_t>("slot");
       s.state.count = r.get<uint32_t>("count");
       s.state.epoch = r.get<uint32_t>("epoch");
-      for (int k = 0; k < 3; ++k) s.state.sample[k] = r.finite("sample");
-      for (int k = 0; k < 3; ++k) s.state.mean[k] = r.finite("mean");
-      s.state.variance = r.finite("variance");
+      if (m.format == WireFormat::rgbe) {
+        uint8_t rgbe[8];
+        for (uint8_t& byte : rgbe) byte = r.get<uint8_t>("rgbe");
+        for (int k = 0; k < 8; k += 4)  // canonical only: one encoding per colour
+          if (rgbe[k + 3] == 0 ? (rgbe[k] | rgbe[k + 1] | rgbe[k + 2]) != 0
+                               : std::max({rgbe[k], rgbe[k + 1], rgbe[k + 2]}) < 128)
+            r.fail("rgbe", "not a canonical RGBE colour");
+        s.state.sample = decode_rgbe(rgbe);
+        s.state.mean = decode_rgbe(rgbe + 4);
+        s.state.variance = from_bfloat16(r.get<uint16_t>("variance"));
+        if (!std::isfinite(s.state.variance)) r.fail("variance", "not finite");
+      } else {
+        for (int k = 0; k < 3; ++k) s.state.sample[k] = r.finite("sample");
+        for (int k = 0; k < 3; ++k) s.state.mean[k] = r.finite("mean");
+        s.state.variance = r.finite("variance");
+      }
       if (s.state.variance < 0.0f) r.fail("variance", "negative");
       s.state.time = r.finite("time");
       s.state.levels = r.get<uint8_t>("levels");

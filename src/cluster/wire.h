@@ -37,15 +37,28 @@ struct Control {
   bool stop = false;
 };
 
+// How pixel records travel. exact: what the master's display needs to reproduce a local run
+// bit for bit (45 bytes). rgbe: OpenRT's idea of quantised colours, kept high-dynamic-range:
+// sample and mean as RGBE (8-bit mantissas, shared exponent: 0.4 % relative error), variance as
+// bfloat16 (27 bytes); wall-clock runs only.
+enum class WireFormat : uint32_t { exact = 0, rgbe = 1 };
+
 // Client -> master: the news of its render threads. `tick` is the deterministic tick these
 // updates complete (~0 on the wall clock).
 struct Updates {
   uint64_t tick = ~uint64_t(0);
+  WireFormat format = WireFormat::exact;
   std::vector<RemoteBatch> threads;
 };
 
 // Bytes of one pixel record on the wire (slot, count, epoch, sample, mean, variance, time, levels).
 inline constexpr size_t kSlotRecordBytes = 45;
+inline constexpr size_t kCompactRecordBytes = 27;
+inline size_t record_bytes(WireFormat f) { return f == WireFormat::rgbe ? kCompactRecordBytes : kSlotRecordBytes; }
+
+// RGBE (Ward's shared-exponent colour) of a non-negative colour (negative parts become 0), and back.
+void encode_rgbe(const Vec3& c, uint8_t out[4]);
+Vec3 decode_rgbe(const uint8_t in[4]);
 
 std::vector<uint8_t> encode(const Hello& m);
 std::vector<uint8_t> encode(const Control& m);

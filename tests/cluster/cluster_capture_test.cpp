@@ -215,3 +215,31 @@ TEST(ClusterView, ViewerUnderXvfbShowsTheClientsPixels) {
 
 }  // namespace
 }  // namespace frameless::test
+
+namespace frameless::test {
+namespace {
+
+TEST(ClusterCapture, RgbeWireOnTheWallClockAndRefusedWhenDeterministic) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_rgbe");
+  const CommandResult r = run_cluster(
+      3, "capture default --size 64x48 --threads 1 --refresh 10 --duration 1.5 --no-mp4 --no-contact-sheet "
+         "--cluster-wire rgbe --out " + (dir / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::vector<std::string> frames = manifest_frames(dir / "a");
+  ASSERT_GE(frames.size(), 3u);
+  auto img = read_exr((dir / "a" / frames.back()).string());
+  ASSERT_TRUE(img.ok());
+  double sum = 0;
+  for (float v : img->channels.at("G")) sum += v;
+  EXPECT_GT(sum / double(img->channels.at("G").size()), 0.05);  // a lit picture arrived
+  const CommandResult d = run_cluster(
+      2, "capture default --deterministic --size 32x24 --duration 0.2 --cluster-wire rgbe --out " + (dir / "b").string());
+  EXPECT_NE(d.exit_code, 0);
+  EXPECT_NE(d.output.find("--cluster-wire rgbe: deterministic runs need the exact wire format"), std::string::npos)
+      << d.output;
+  EXPECT_EQ(lines_with(d.output, "frameless:"), 1) << d.output;
+}
+
+}  // namespace
+}  // namespace frameless::test

@@ -3,6 +3,7 @@
 // values, trailing bytes) is refused with a one-line std::invalid_argument, never read past.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -59,7 +60,7 @@ Control sample_control() {
 TEST(Wire, UpdatesRoundTripExactly) {
   const Updates u = sample_updates();
   const std::vector<uint8_t> bytes = encode(u);
-  EXPECT_EQ(bytes.size(), 8 + 8 + 4 + 2 * (4 + 32 + 4 + 3 * kSlotRecordBytes));
+  EXPECT_EQ(bytes.size(), 8 + 8 + 4 + 4 + 2 * (4 + 32 + 4 + 3 * kSlotRecordBytes));
   const Updates d = decode_updates(bytes.data(), bytes.size());
   EXPECT_EQ(d.tick, 42u);
   ASSERT_EQ(d.threads.size(), 2u);
@@ -159,7 +160,7 @@ TEST(Wire, BadFieldsAreNamed) {
   EXPECT_NE(refusal(updates, b).find("updates.version"), std::string::npos);
   // A slot count of 2^32-1 in a short message: refused before anything is allocated.
   b = encode(sample_updates());
-  const size_t slots_at = 8 + 8 + 4 + 4 + 32;
+  const size_t slots_at = 8 + 8 + 4 + 4 + 4 + 32;
   const uint32_t huge = 0xffffffffu;
   std::memcpy(b.data() + slots_at, &huge, 4);
   EXPECT_NE(refusal(updates, b).find("updates.slots: count beyond the message"), std::string::npos);
@@ -179,6 +180,60 @@ TEST(Wire, BadFieldsAreNamed) {
   const double zero = 0.0;
   std::memcpy(b.data() + b.size() - 8, &zero, 8);
   EXPECT_NE(refusal(control, b).find("control.advance.seconds"), std::string::npos);
+}
+
+TEST(Wire, RgbeRecordsAreSmallerAndWithinTheirPrecision) {
+  Updates u = sample_updates();
+  u.format = WireFormat::rgbe;
+  const std::vector<uint8_t> bytes = encode(u);
+  EXPECT_EQ(bytes.size(), 8 + 8 + 4 + 4 + 2 * (4 + 32 + 4 + 3 * kCompactRecordBytes));
+  EXPECT_LT(double(kCompactRecordBytes) / double(kSlotRecordBytes), 0.61);
+  const Updates d = decode_updates(bytes.data(), bytes.size());
+  ASSERT_EQ(d.format, WireFormat::rgbe);
+  for (size_t t = 0; t < 2; ++t)
+    for (size_t s = 0; s < 3; ++s) {
+      const PixelSnapshot &x = u.threads[t].slots[s].state, &y = d.threads[t].slots[s].state;
+      EXPECT_EQ(x.count, y.count);
+      EXPECT_EQ(x.epoch, y.epoch);
+      EXPECT_EQ(x.time, y.time);
+      EXPECT_EQ(x.levels, y.levels);
+      for (int k = 0; k < 3; ++k) {
+        // Each channel within half a mantissa step of the colour's largest channel (1/256 of it).
+        const float big = std::max({x.sample.x, x.sample.y, x.sample.z});
+        EXPECT_NEAR(y.sample[k], x.sample[k], big / 256.0f) << t << " " << s << " " << k;
+        EXPECT_NEAR(y.mean[k], x.mean[k], 0.75f / 256.0f);
+      }
+      EXPECT_NEAR(y.variance, x.variance, x.variance / 128.0f + 1e-12f);
+    }
+}
+
+TEST(Wire, RgbeEncodesZeroBlackAndHugeAndIsCanonical) {
+  uint8_t b[4];
+  encode_rgbe(Vec3(0.0f), b);
+  EXPECT_EQ(decode_rgbe(b), Vec3(0.0f));
+  encode_rgbe(Vec3(-1.0f, 0.0f, 0.0f), b);  // negative parts become 0
+  EXPECT_EQ(decode_rgbe(b), Vec3(0.0f));
+  encode_rgbe(Vec3(1e30f, 1.0f, 0.0f), b);
+  EXPECT_NEAR(decode_rgbe(b).x / 1e30f, 1.0f, 1.0f / 128.0f);
+  for (float v : {1e-20f, 0.001f, 0.5f, 1.0f, 3.7f, 65504.0f}) {
+    encode_rgbe(Vec3(v, v / 3, 0), b);
+    EXPECT_GE(std::max({b[0], b[1], b[2]}), 128) << v;
+    uint8_t again[4];
+    encode_rgbe(decode_rgbe(b), again);  // one encoding per colour: decode, encode gives it back
+    EXPECT_EQ(std::memcmp(b, again, 4), 0) << v;
+  }
+  // A non-canonical colour (largest mantissa below 128) and an unknown format are refused.
+  Updates u = sample_updates();
+  u.format = WireFormat::rgbe;
+  std::vector<uint8_t> bytes = encode(u);
+  const size_t first_rgbe = 8 + 8 + 4 + 4 + 4 + 32 + 4 + 12;
+  bytes[first_rgbe] = bytes[first_rgbe + 1] = bytes[first_rgbe + 2] = 5;
+  bytes[first_rgbe + 3] = 130;
+  const auto updates = [](const uint8_t* p, size_t n) { return decode_updates(p, n); };
+  EXPECT_NE(refusal(updates, bytes).find("updates.rgbe: not a canonical"), std::string::npos);
+  bytes = encode(u);
+  bytes[16] = 7;
+  EXPECT_NE(refusal(updates, bytes).find("updates.format: unknown wire format 7"), std::string::npos);
 }
 
 }  // namespace
