@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds and runs every test: Release suite, then ASan+UBSan (all but the concurrency suites),
-# then ThreadSanitizer (engine and exchange suites), then the scene/mesh parser fuzzer for a bounded time.
-# Usage: tools/test.sh [--quick]   (--quick: Release suite only)
+# then ThreadSanitizer (engine and exchange suites, then whole mpirun cluster jobs), then the
+# scene/mesh/wire parser fuzzer for a bounded time.
+# Usage: tools/test.sh [--quick | --cluster-tsan]   (--quick: Release suite only;
+#        --cluster-tsan: only whole mpirun jobs of a ThreadSanitizer build, about 5 minutes)
 # Env: FRAMELESS_FUZZ_SECONDS (default 60), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,9 +11,34 @@ cd "$root"
 tools/install-deps.sh --test
 jobs=$(nproc 2>/dev/null || echo 2)
 quick=0; [ "${1:-}" = "--quick" ] && quick=1
+cluster_tsan=0; [ "${1:-}" = "--cluster-tsan" ] && cluster_tsan=1
 
 start=$(date +%s)
 section() { printf '\n=== %s (at %ds) ===\n' "$*" $(($(date +%s) - start)); }
+
+cluster_tsan_jobs() {
+  # Whole cluster jobs (master + 2 clients) with the frameless binary under ThreadSanitizer:
+  # wall-clock and deterministic captures and bench cluster. Open MPI and Mesa are not
+  # instrumented; tests/tsan_mpi.supp silences reports from inside them only.
+  tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
+    -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- frameless
+  local bin=build/tsan/tools/frameless out=build/tsan/cluster-jobs
+  local tsan="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp"
+  local mpi=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 600
+             mpirun --oversubscribe --mca btl self,vader -np 3 -x TSAN_OPTIONS="$tsan")
+  rm -rf "$out"
+  "${mpi[@]}" "$bin" capture default --size 64x48 --threads 1 --refresh 20 --duration 2 --no-mp4 \
+    --orbit 40 --out "$out/wall"
+  "${mpi[@]}" "$bin" capture default --deterministic --size 64x48 --threads 2 --refresh 20 \
+    --duration 1 --no-mp4 --orbit 40 --out "$out/deterministic"
+  "${mpi[@]}" "$bin" bench cluster --one --size 160x90 --seconds 1 --threads 1 --cluster-wire rgbe >/dev/null
+}
+if [ $cluster_tsan = 1 ]; then
+  section "ThreadSanitizer: whole cluster jobs under mpirun"
+  cluster_tsan_jobs
+  section "cluster jobs clean under ThreadSanitizer"
+  exit 0
+fi
 
 section "Release build and tests"
 tools/build.sh build/release -DFRAMELESS_TESTS=ON
@@ -32,6 +59,9 @@ tools/build.sh build/tsan -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitiz
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   ctest -j"$jobs" --output-on-failure -L 'engine|exchange')
+
+section "ThreadSanitizer: whole cluster jobs under mpirun (master's communication thread, clients)"
+cluster_tsan_jobs
 
 section "libFuzzer: scene and mesh parsers (${FRAMELESS_FUZZ_SECONDS:-60} s; built in the ASan stage)"
 mkdir -p build/asan/fuzz-corpus
