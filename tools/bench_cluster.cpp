@@ -24,6 +24,7 @@
 #include "tools/cluster_join.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
+#include "tools/latency_trial.h"
 
 namespace frameless::cli {
 namespace {
@@ -107,15 +108,9 @@ nlohmann::json measure(const Scene& scene, const EngineConfig& c, const Camera& 
     j["messages_per_s"] = double(c1.messages - c0.messages) / wall;
     j["comm_cpu_fraction"] = (c1.comm_cpu_seconds - c0.comm_cpu_seconds) / wall;
   }
-  double p50 = NAN, p95 = NAN, p100 = NAN;
-  for (const auto& [time, cov] : series) {
-    const double ms = (time - t0) * 1e3;
-    if (std::isnan(p50) && cov >= 0.5) p50 = ms;
-    if (std::isnan(p95) && cov >= 0.95) p95 = ms;
-    if (std::isnan(p100) && cov >= 1.0) p100 = ms;
-  }
+  const LatencyTrial lat = latency_from(series, t0);
   auto ms = [](double v) { return std::isnan(v) ? -1.0 : v; };
-  j["latency_ms"] = {{"p50", ms(p50)}, {"p95", ms(p95)}, {"p100", ms(p100)}};
+  j["latency_ms"] = {{"p50", ms(lat.p50)}, {"p95", ms(lat.p95)}, {"p100", ms(lat.p100)}};
   j["latency_ideal_ms"] = updates > 0 ? double(c.width) * c.height / (updates / wall) * 1e3 : -1.0;
   return j;
 }

@@ -12,6 +12,19 @@
 
 namespace frameless::cli {
 
+LatencyTrial latency_from(const std::vector<std::pair<double, double>>& series, double t0) {
+  LatencyTrial t;
+  t.p50 = t.p95 = t.p100 = NAN;
+  for (const auto& [time, cov] : series) {
+    const double ms = (time - t0) * 1e3;
+    t.curve.push_back({ms, cov});
+    if (std::isnan(t.p50) && cov >= 0.5) t.p50 = ms;
+    if (std::isnan(t.p95) && cov >= 0.95) t.p95 = ms;
+    if (std::isnan(t.p100) && cov >= 1.0) t.p100 = ms;
+  }
+  return t;
+}
+
 LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, const Camera& camera,
                              double refresh_hz, double max_seconds) {
   Engine e(scene, config, camera);
@@ -47,15 +60,7 @@ LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, con
   d.stop();
   e.stop();
   if (e.error()) throw std::runtime_error(*e.error());
-  LatencyTrial t;
-  t.p50 = t.p95 = t.p100 = NAN;
-  for (const auto& [time, cov] : series) {
-    const double ms = (time - t0) * 1e3;
-    t.curve.push_back({ms, cov});
-    if (std::isnan(t.p50) && cov >= 0.5) t.p50 = ms;
-    if (std::isnan(t.p95) && cov >= 0.95) t.p95 = ms;
-    if (std::isnan(t.p100) && cov >= 1.0) t.p100 = ms;
-  }
+  LatencyTrial t = latency_from(series, t0);
   const double updates_per_s =
       double(s1.updates - s0.updates) / std::max(1e-9, s1.seconds - s0.seconds);
   t.ideal = double(config.width) * config.height / std::max(1.0, updates_per_s) * 1e3;

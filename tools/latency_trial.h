@@ -17,6 +17,10 @@ struct LatencyTrial {
   std::vector<std::pair<double, double>> curve;  // (ms since the change, coverage) per tick
 };
 
+// p50/p95/p100 and the curve from the display's (engine seconds, coverage of the new camera)
+// ticks after a change published at engine time t0 (ideal left 0).
+LatencyTrial latency_from(const std::vector<std::pair<double, double>>& series, double t0);
+
 // Throws std::runtime_error if a render thread fails. Gives up after `max_seconds`.
 LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, const Camera& camera,
                              double refresh_hz, double max_seconds = 15.0);

@@ -77,7 +77,7 @@ std::optional<uint64_t> Session::Impl::receive_updates(int source) {
 
 void Session::Impl::comm_main() {
   const double cpu0 = thread_cpu_seconds();
-  auto nap = std::chrono::microseconds(20);
+  Backoff backoff;
   while (!comm_stop.load(std::memory_order_acquire)) {
     bool busy = false;
     if (Control c = changes(); has_changes(c)) {
@@ -85,12 +85,7 @@ void Session::Impl::comm_main() {
       busy = true;
     }
     while (receive_updates(-1)) busy = true;
-    if (busy) {
-      nap = std::chrono::microseconds(20);
-    } else {
-      std::this_thread::sleep_for(nap);
-      nap = std::min(nap * 2, std::chrono::microseconds(1000));
-    }
+    busy ? backoff.reset() : backoff.nap();
     std::lock_guard<std::mutex> lock(stats_mutex);
     stats.comm_cpu_seconds = thread_cpu_seconds() - cpu0;
   }
@@ -102,18 +97,12 @@ void Session::Impl::advance_round(uint64_t tick, double seconds) {
   send_all(c);
   // Each client answers with exactly one update message for this tick.
   for (int r = 1; r < link->size(); ++r) {
-    for (;;) {
-      std::vector<uint8_t> unused;
-      auto nap = std::chrono::microseconds(20);
-      std::optional<uint64_t> got;
-      while (!(got = receive_updates(r))) {
-        std::this_thread::sleep_for(nap);
-        nap = std::min(nap * 2, std::chrono::microseconds(1000));
-      }
-      if (*got == tick) break;
+    Backoff backoff;
+    std::optional<uint64_t> got;
+    while (!(got = receive_updates(r))) backoff.nap();
+    if (*got != tick)
       fail("rank " + std::to_string(r) + " answered tick " + std::to_string(*got) + " for tick " +
            std::to_string(tick));
-    }
   }
 }
 

@@ -62,14 +62,6 @@ bool MpiLink::poll(int source, int tag, std::vector<uint8_t>& bytes, int* from) 
   return true;
 }
 
-void MpiLink::wait(int source, int tag, std::vector<uint8_t>& bytes, int* from) {
-  auto nap = std::chrono::microseconds(20);
-  while (!poll(source, tag, bytes, from)) {
-    std::this_thread::sleep_for(nap);
-    nap = std::min(nap * 2, std::chrono::microseconds(1000));
-  }
-}
-
 std::vector<std::vector<uint8_t>> MpiLink::gather(const std::vector<uint8_t>& mine) {
   int n = int(mine.size());
   std::vector<int> sizes(rank_ == 0 ? size_t(size_) : 0);

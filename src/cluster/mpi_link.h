@@ -2,10 +2,28 @@
 // on a process comes from one thread at a time (MPI_THREAD_SERIALIZED): the handshake and
 // shutdown from the command's thread, everything between from the communication thread.
 #pragma once
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
+#include <thread>
 #include <vector>
 
 namespace frameless::cluster {
+
+// Waiting between polls without holding a core: naps double from 20 µs up to 1 ms, and start
+// short again after anything happened (every polling loop of the cluster uses it).
+class Backoff {
+ public:
+  void reset() { nap_ = kShortest; }
+  void nap() {
+    std::this_thread::sleep_for(nap_);
+    nap_ = std::min(nap_ * 2, kLongest);
+  }
+
+ private:
+  static constexpr std::chrono::microseconds kShortest{20}, kLongest{1000};
+  std::chrono::microseconds nap_ = kShortest;
+};
 
 // Ranks in this job from Open MPI's launch environment (1 when not started by mpirun).
 int launched_size();
@@ -23,8 +41,6 @@ class MpiLink {
   // A waiting message with `tag` from `source` (-1: any), into bytes; false when none waits.
   // Throws std::runtime_error for a message larger than kMaxMessageBytes (it is not read).
   bool poll(int source, int tag, std::vector<uint8_t>& bytes, int* from = nullptr);
-  // Waits for one (polling with short sleeps, so a waiting rank leaves its core to the renderers).
-  void wait(int source, int tag, std::vector<uint8_t>& bytes, int* from = nullptr);
   // Every rank, together: gathers each rank's bytes at rank 0 (others get an empty vector).
   std::vector<std::vector<uint8_t>> gather(const std::vector<uint8_t>& mine);
   // Every rank, together: rank 0's bytes to all.

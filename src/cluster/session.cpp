@@ -135,7 +135,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
     bool attached = false;
     std::vector<uint8_t> bytes;
     auto last = std::chrono::steady_clock::now();
-    auto nap = std::chrono::microseconds(20);
+    Backoff backoff;
     auto spin_until = std::chrono::steady_clock::now();
     for (;;) {
       bool busy = false, stop = false;
@@ -185,12 +185,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
           busy = true;
         }
       }
-      if (busy || std::chrono::steady_clock::now() < spin_until) {
-        nap = std::chrono::microseconds(20);
-      } else {
-        std::this_thread::sleep_for(nap);
-        nap = std::min(nap * 2, std::chrono::microseconds(1000));
-      }
+      busy || std::chrono::steady_clock::now() < spin_until ? backoff.reset() : backoff.nap();
     }
     engine.stop();
     d.link->send(0, kTagBye, {});
@@ -241,13 +236,9 @@ void Session::Impl::release_clients() {
   // client said goodbye, so no client is left blocked in a send.
   std::vector<uint8_t> bytes;
   for (int r = 1; r < link->size(); ++r) {
-    auto nap = std::chrono::microseconds(20);
-    while (!link->poll(r, kTagBye, bytes)) {
-      if (!link->poll(r, kTagUpdates, bytes)) {
-        std::this_thread::sleep_for(nap);
-        nap = std::min(nap * 2, std::chrono::microseconds(1000));
-      }
-    }
+    Backoff backoff;
+    while (!link->poll(r, kTagBye, bytes))
+      if (!link->poll(r, kTagUpdates, bytes)) backoff.nap();
   }
 }
 

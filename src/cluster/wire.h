@@ -17,7 +17,8 @@ inline constexpr uint32_t kWireMagic = 0x31434c46u;  // "FLC1" read as little-en
 inline constexpr uint32_t kWireVersion = 1;
 
 // MPI tags: one kind of message per tag, so a receiver probes for exactly what it expects.
-enum Tag : int { kTagHello = 1, kTagVerdict = 2, kTagControl = 3, kTagUpdates = 4, kTagBye = 5, kTagPing = 6 };
+// (The handshake itself is a collective: MPI_Gather of Hellos, MPI_Bcast of the verdict.)
+enum Tag : int { kTagControl = 3, kTagUpdates = 4, kTagBye = 5, kTagPing = 6 };
 
 // Every rank, once, after loading the scene: who it is and whether it can render.
 struct Hello {
