@@ -450,23 +450,14 @@ void Engine::ingest(const RemoteBatch& b) {
     if (!finite) bad("non-finite value in slot " + std::to_string(r.slot));
   }
   for (const RemoteSlot& r : b.slots) {
-    // The render thread's publish protocol (render_loop.cpp), for a state computed elsewhere.
-    PixelState& p = e.states[r.slot];
+    // A state computed elsewhere, published as a render thread publishes its own.
     const PixelSnapshot& s = r.state;
-    const uint32_t seq = p.seq.load(std::memory_order_relaxed);
-    p.seq.store(seq + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    p.count.store(s.count, std::memory_order_relaxed);
-    p.epoch.store(s.epoch, std::memory_order_relaxed);
-    for (int k = 0; k < 3; ++k) {
-      p.mean[k].store(double(s.mean[k]), std::memory_order_relaxed);  // read back as the same float
-      p.sample[k].store(s.sample[k], std::memory_order_relaxed);
-    }
+    const double mean[3] = {s.mean[0], s.mean[1], s.mean[2]};  // read back as the same floats
     // read_pixel() gives float(m2 / (count - 1)): this m2 gives the same float back.
-    p.m2.store(s.count > 1 ? double(s.variance) * double(s.count - 1) : 0.0, std::memory_order_relaxed);
-    p.time.store(s.time, std::memory_order_relaxed);
-    e.levels[(*e.display_order)[r.slot]].store(s.levels, std::memory_order_relaxed);
-    p.seq.store(seq + 2, std::memory_order_release);
+    const double m2 = s.count > 1 ? double(s.variance) * double(s.count - 1) : 0.0;
+    publish_state(e.states[r.slot], s.count, s.epoch, mean, m2, s.sample, s.time, [&] {
+      e.levels[(*e.display_order)[r.slot]].store(s.levels, std::memory_order_relaxed);
+    });
   }
   ThreadCounters& w = e.counters[b.thread];
   w.samples.store(b.samples, std::memory_order_relaxed);

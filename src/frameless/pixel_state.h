@@ -30,6 +30,30 @@ struct alignas(64) PixelState {
 };
 static_assert(sizeof(PixelState) == 64, "per-pixel state must stay one cache line");
 
+// The owner's publish protocol, the one writer of a pixel's state: odd sequence while writing
+// (a reader retries on a torn read), every field, `beside()` (what lives next to the state: the
+// reflection depth), then the even sequence. Render threads and the cluster master's ingest
+// share it. Inline: the per-sample path pays nothing for the call. Returns the published
+// sequence number.
+template <class Beside>
+inline uint32_t publish_state(PixelState& p, uint32_t count, uint32_t epoch, const double mean[3],
+                          double m2, const Vec3& sample, float time, Beside&& beside) {
+  const uint32_t seq = p.seq.load(std::memory_order_relaxed);
+  p.seq.store(seq + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  p.count.store(count, std::memory_order_relaxed);
+  p.epoch.store(epoch, std::memory_order_relaxed);
+  for (int c = 0; c < 3; ++c) {
+    p.mean[c].store(mean[c], std::memory_order_relaxed);
+    p.sample[c].store(sample[c], std::memory_order_relaxed);
+  }
+  p.m2.store(m2, std::memory_order_relaxed);
+  p.time.store(time, std::memory_order_relaxed);
+  beside();
+  p.seq.store(seq + 2, std::memory_order_release);
+  return seq + 2;
+}
+
 // Copies every field of `from` into `to`; control thread only, while no render thread runs.
 inline void copy_state(const PixelState& from, PixelState& to) {
   constexpr auto r = std::memory_order_relaxed;

@@ -117,20 +117,8 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   }
   const Vec3 sample = sum / float(valid);
 
-  // Publish: odd sequence while writing; the display retries on a torn read.
-  const uint32_t seq = p.seq.load(std::memory_order_relaxed);
-  p.seq.store(seq + 1, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_release);
-  p.count.store(count, std::memory_order_relaxed);
-  p.epoch.store(epoch, std::memory_order_relaxed);
-  for (int c = 0; c < 3; ++c) {
-    p.mean[c].store(mean[c], std::memory_order_relaxed);
-    p.sample[c].store(sample[c], std::memory_order_relaxed);
-  }
-  p.m2.store(m2, std::memory_order_relaxed);
-  p.time.store(time, std::memory_order_relaxed);
-  store_levels(e, idx, levels, frame);
-  p.seq.store(seq + 2, std::memory_order_release);
+  const uint32_t seq =
+      publish_state(p, count, epoch, mean, m2, sample, time, [&] { store_levels(e, idx, levels, frame); });
 
   if (frame) {
     frame->sample = sample;
@@ -139,7 +127,7 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
     frame->count = count;
     frame->epoch = epoch;
     frame->time = time;
-    frame->seq = seq + 2;
+    frame->seq = seq;
   }
 }
 
