@@ -1,6 +1,7 @@
 // `frameless bench cluster`: frameless across Open MPI ranks against one process. Run plainly, it
 // measures one process, then starts `mpirun -np K+1` jobs of itself for K = 1..--clients and
 // tabulates them; run under mpirun (`--one`), rank 0 measures the job it leads and prints JSON.
+// Frameless mode, or conventional mode with OpenRT's pieces on demand (--mode).
 // Per run: pixel updates/s reaching the display, bytes per update on the wire, master CPU, the
 // round trip of a small request, camera-change latency (50/95/100 % of pixels) and samples per
 // CPU second of the render threads (scaling efficiency).
@@ -37,6 +38,7 @@ struct Args {
   int threads = 1;
   int clients = 2;
   double seconds = 2.0;
+  std::string mode = "frameless";
   bool json = false;
   bool one = false;
 };
@@ -107,7 +109,20 @@ nlohmann::json measure(const Scene& scene, const EngineConfig& c, const Camera& 
     j["wire_mbit_per_s"] = bytes * 8e-6 / wall;
     j["messages_per_s"] = double(c1.messages - c0.messages) / wall;
     j["comm_cpu_fraction"] = (c1.comm_cpu_seconds - c0.comm_cpu_seconds) / wall;
+    if (c.mode == RenderMode::conventional) {
+      // OpenRT's figures: pieces handed out, stolen, moved with their states; how long the
+      // clients' render threads waited for a piece; a piece request's round trip (ask -> pieces).
+      const double pieces = double(c1.pieces - c0.pieces);
+      j["pieces_per_s"] = pieces / wall;
+      j["steal_fraction"] = pieces > 0 ? double(c1.steals - c0.steals) / pieces : 0.0;
+      j["handoff_fraction"] = pieces > 0 ? double(c1.handoffs - c0.handoffs) / pieces : 0.0;
+      j["client_idle_fraction"] = (c1.client_idle_seconds - c0.client_idle_seconds) / (wall * double(s1.threads.size()));
+      const double requests = double(c1.requests - c0.requests);
+      j["piece_request_ms"] = requests > 0 ? (c1.request_seconds - c0.request_seconds) / requests * 1e3 : -1.0;
+    }
   }
+  if (c.mode == RenderMode::conventional)
+    j["frames_per_s"] = double(s1.frames_completed - s0.frames_completed) / wall;
   const LatencyTrial lat = latency_from(series, t0);
   auto ms = [](double v) { return std::isnan(v) ? -1.0 : v; };
   j["latency_ms"] = {{"p50", ms(lat.p50)}, {"p95", ms(lat.p95)}, {"p100", ms(lat.p100)}};
@@ -144,7 +159,8 @@ nlohmann::json run_job(const Args& a, int ranks, std::string& error) {
                           std::to_string(ranks) + " " + shell_quote(self) + " bench cluster --one " +
                           shell_quote(a.scene) + " --size " + a.size + " --threads " + std::to_string(a.threads) +
                           " --seconds " + std::to_string(a.seconds) + " --cluster-wire " + shell_quote(a.cluster.wire) +
-                          " --cluster-batch-ms " + std::to_string(a.cluster.batch_ms) + " 2>&1";
+                          " --cluster-batch-ms " + std::to_string(a.cluster.batch_ms) +
+                          " --cluster-prefetch " + std::to_string(a.cluster.prefetch) + " --mode " + a.mode + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -172,6 +188,9 @@ int run(const Args& a) {
   if (a.cluster.wire != "exact" && a.cluster.wire != "rgbe")
     return report_error("--cluster-wire: expected exact or rgbe, got '" + a.cluster.wire + "'");
   c.threads = a.threads;
+  const std::optional<RenderMode> mode = parse_render_mode(a.mode);
+  if (!mode) return report_error("--mode: expected frameless or conventional, got '" + a.mode + "'");
+  c.mode = *mode;
   ClusterJoin cluster;
   cluster.flags = a.cluster;
   if (!cluster.start(error)) return report_error(error);
@@ -184,10 +203,10 @@ int run(const Args& a) {
     if (cluster.master()) {  // one job: this rank leads it
       cluster::Session& s = *cluster.session;
       nlohmann::json j = {{"ranks", s.size()}, {"clients", s.clients()}, {"threads_per_client", a.threads},
-                          {"wire", a.cluster.wire}};
+                          {"wire", a.cluster.wire}, {"mode", a.mode}};
       j["request_rtt_us"] = ping(s);
       j.update(measure(*scene, c, scene->camera, a.seconds,
-                       [&](Engine* e) { e ? s.attach(*e, *scene) : s.detach(); }, &s));
+                       [&](Engine* e) { e ? s.attach(*e, *scene, cluster.options) : s.detach(); }, &s));
       std::printf("%s\n", j.dump(2).c_str());
       return 0;
     }
@@ -211,6 +230,7 @@ int run(const Args& a) {
     nlohmann::json out = bench_header("cluster", scene.get(), a.scene,
                                       {{"size", a.size}, {"threads_per_client", a.threads},
                                        {"wire", a.cluster.wire}, {"batch_ms", a.cluster.batch_ms},
+                                       {"mode", a.mode}, {"prefetch", a.cluster.prefetch},
                                        {"seconds", a.seconds}, {"max_clients", a.clients}});
     out["single_process"] = single;
     out["cluster"] = runs;
@@ -218,8 +238,8 @@ int run(const Args& a) {
       std::printf("%s\n", out.dump(2).c_str());
       return 0;
     }
-    std::printf("bench cluster: %s at %s, %d render thread(s) per client, %d cores here\n",
-                a.scene.c_str(), a.size.c_str(), a.threads, cores);
+    std::printf("bench cluster: %s at %s, %s mode, %d render thread(s) per client, %d cores here\n",
+                a.scene.c_str(), a.size.c_str(), a.mode.c_str(), a.threads, cores);
     std::printf("%-10s %12s %12s %10s %9s %9s %9s %9s %9s %8s\n", "run", "updates/s", "samples/cpu-s",
                 "effic.", "B/update", "master", "rtt us", "lat50 ms", "lat100", "");
     auto row = [&](const std::string& name, const nlohmann::json& j, bool cl) {
@@ -234,6 +254,19 @@ int run(const Args& a) {
     };
     row("1 process", single, false);
     for (const auto& j : runs) row(std::to_string(j["clients"].get<int>()) + " client", j, true);
+    if (c.mode == RenderMode::conventional) {
+      std::printf("%-10s %9s %10s %9s %9s %10s %12s\n", "run", "frames/s", "pieces/s", "stolen", "handoff",
+                  "idle", "request ms");
+      std::printf("%-10s %9.1f\n", "1 process", single["frames_per_s"].get<double>());
+      for (const auto& j : runs)
+        std::printf("%-10s %9.1f %10.0f %8.1f%% %8.1f%% %9.1f%% %12.3f\n",
+                    (std::to_string(j["clients"].get<int>()) + " client").c_str(), j["frames_per_s"].get<double>(),
+                    j["pieces_per_s"].get<double>(), 100 * j["steal_fraction"].get<double>(),
+                    100 * j["handoff_fraction"].get<double>(), 100 * j["client_idle_fraction"].get<double>(),
+                    j["piece_request_ms"].get<double>());
+      std::printf("idle: the clients' render threads waiting for a piece; request: asking for pieces to\n"
+                  "receiving them (waiting for the next frame's pieces included).\n");
+    }
     std::printf("(over): more render threads + master than cores, so clients share cores; 'master' is the\n"
                 "master's whole process CPU (one process: every thread) in %% of one core.\n");
   } catch (const std::exception& ex) {
@@ -256,6 +289,8 @@ const bool registered = register_command(
       app.add_option("--clients", a->clients, "measure jobs of 1..N clients (mpirun -np 2..N+1)")
           ->capture_default_str();
       app.add_option("--seconds", a->seconds, "seconds per throughput measurement")->capture_default_str();
+      app.add_option("--mode", a->mode, "frameless, or conventional (OpenRT's pieces on demand)")
+          ->capture_default_str();
       app.add_flag("--json", a->json, "print JSON");
       app.add_flag("--one", a->one, "one job: run under mpirun; rank 0 prints its JSON");
       app.footer("Runs mpirun itself (localhost, --oversubscribe). For other machines run one job:\n"

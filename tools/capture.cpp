@@ -87,7 +87,7 @@ int run(const CaptureArgs& a) {
   if (cluster.master()) {
     o.engine_hook = [&](Engine* engine) {
       if (engine)
-        cluster.session->attach(*engine, *scene);
+        cluster.session->attach(*engine, *scene, cluster.options);
       else
         cluster.session->detach();
     };

@@ -15,12 +15,14 @@ namespace frameless::cli {
 struct ClusterFlags {
   std::string wire = "exact";
   double batch_ms = 4.0;
+  int prefetch = 0;
   void add_to(CLI::App& app);
 };
 
 struct ClusterJoin {
   std::unique_ptr<cluster::Session> session;  // null: a single process (no mpirun, or -np 1)
   ClusterFlags flags;                         // set before join()
+  cluster::ClusterOptions options;            // from the flags, by join()
 
   // Starts MPI when launched by mpirun with 2+ ranks; false (error set) when it cannot.
   bool start(std::string& error);

@@ -61,7 +61,7 @@ int run(const ViewArgs& a) {
     o.fixed_layout = true;
     o.engine_hook = [&](Engine* engine) {
       if (engine)
-        cluster.session->attach(*engine, *scene);
+        cluster.session->attach(*engine, *scene, cluster.options);
       else
         cluster.session->detach();
     };

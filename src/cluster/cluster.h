@@ -30,6 +30,7 @@ uint64_t scene_fingerprint(const Scene& scene);
 struct ClusterOptions {
   double batch_ms = 4.0;                   // a client sends what changed this often (wall clock)
   WireFormat wire = WireFormat::exact;     // pixel records: exact, or rgbe (wall clock only)
+  int prefetch = 0;                        // conventional: pieces a client holds (0: 2 per thread)
 };
 
 // Traffic and timing counters of the master's communication (bench cluster reads them).
@@ -39,6 +40,12 @@ struct ClusterStats {
   uint64_t pixel_records = 0;  // pixel states they carried
   uint64_t controls = 0;       // control messages sent (per client)
   double comm_cpu_seconds = 0; // the communication thread's CPU time
+  // Conventional mode: pieces handed out, of them stolen from another client's queue and handed
+  // over with their pixel states; the clients' render threads' time waiting for a piece and
+  // their requests' round trips (ask -> pieces, waiting for work included).
+  uint64_t pieces = 0, steals = 0, handoffs = 0;
+  double client_idle_seconds = 0, request_seconds = 0;
+  uint64_t requests = 0;
 };
 
 class Session {
@@ -66,9 +73,10 @@ class Session {
   // Client: renders its share until the master says stop; returns the exit code.
   int serve(const Scene& scene, EngineConfig per_client, const Camera& camera, const ClusterOptions& o = {});
 
-  // Master: connects `engine` (made with master_config) to the clients. Wall clock: starts the
-  // communication thread; deterministic: installs the advance round (render, then ingest).
-  void attach(Engine& engine, const Scene& scene);
+  // Master: connects `engine` (made with master_config, started) to the clients. Wall clock:
+  // starts the communication thread; deterministic: installs the advance round (render, then
+  // ingest). Conventional mode hands out the frames' pieces on demand (docs/cluster.md).
+  void attach(Engine& engine, const Scene& scene, const ClusterOptions& o = {});
   // Master: tells every client to stop, waits for their goodbyes, stops the communication thread.
   void detach();
   ClusterStats stats() const;

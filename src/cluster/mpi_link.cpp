@@ -40,13 +40,48 @@ MpiLink::MpiLink() {
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }
 
-MpiLink::~MpiLink() { MPI_Finalize(); }
+struct MpiLink::Pending {
+  MPI_Request request = MPI_REQUEST_NULL;
+  std::vector<uint8_t> bytes;
+};
+
+MpiLink::~MpiLink() {
+  flush();
+  MPI_Finalize();
+}
+
+void MpiLink::send_async(int dest, int tag, std::vector<uint8_t> bytes) {
+  auto p = std::make_unique<Pending>();
+  p->bytes = std::move(bytes);
+  MPI_Isend(p->bytes.data(), int(p->bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &p->request);
+  pending_.push_back(std::move(p));
+  progress();
+}
+
+void MpiLink::progress() {
+  for (size_t i = 0; i < pending_.size();) {
+    int done = 0;
+    MPI_Test(&pending_[i]->request, &done, MPI_STATUS_IGNORE);
+    if (done) {
+      pending_[i] = std::move(pending_.back());
+      pending_.pop_back();
+    } else {
+      ++i;
+    }
+  }
+}
+
+void MpiLink::flush() {
+  for (auto& p : pending_) MPI_Wait(&p->request, MPI_STATUS_IGNORE);
+  pending_.clear();
+}
 
 void MpiLink::send(int dest, int tag, const std::vector<uint8_t>& bytes) {
   MPI_Send(bytes.data(), int(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD);
 }
 
 bool MpiLink::poll(int source, int tag, std::vector<uint8_t>& bytes, int* from) {
+  if (!pending_.empty()) progress();
   int flag = 0;
   MPI_Status st;
   MPI_Iprobe(source < 0 ? MPI_ANY_SOURCE : source, tag, MPI_COMM_WORLD, &flag, &st);

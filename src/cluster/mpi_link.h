@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -38,6 +39,13 @@ class MpiLink {
   int rank() const { return rank_; }
   int size() const { return size_; }
   void send(int dest, int tag, const std::vector<uint8_t>& bytes);
+  // Sends without waiting for the receiver (two ranks sending each other large messages at
+  // once would otherwise both block); the bytes are kept until MPI is done with them. poll()
+  // and flush() complete what finished.
+  void send_async(int dest, int tag, std::vector<uint8_t> bytes);
+  // Waits until every send_async() is done.
+  void flush();
+  size_t sends_in_flight() const { return pending_.size(); }
   // A waiting message with `tag` from `source` (-1: any), into bytes; false when none waits.
   // Throws std::runtime_error for a message larger than kMaxMessageBytes (it is not read).
   bool poll(int source, int tag, std::vector<uint8_t>& bytes, int* from = nullptr);
@@ -51,7 +59,10 @@ class MpiLink {
   static constexpr int kMaxMessageBytes = 1 << 28;
 
  private:
+  struct Pending;
+  void progress();
   int rank_ = 0, size_ = 1;
+  std::vector<std::unique_ptr<Pending>> pending_;
 };
 
 }  // namespace frameless::cluster

@@ -38,6 +38,23 @@ uint64_t scene_fingerprint(const Scene& s) {
   return h;
 }
 
+void apply_changes(Engine& engine, const Scene& scene, const Control& m) {
+  if (m.camera) engine.publish_camera_as(m.camera->second, m.camera->first);
+  if (!m.world.empty()) {
+    WorldState w = initial_world(scene);
+    if (!unpack_world(m.world.data(), m.world.size(), w))
+      throw std::invalid_argument("control.world: does not match the scene");
+    engine.publish_world(w);
+  }
+  if (!m.moves.empty()) {
+    const auto top = engine.instance_top();
+    const size_t instances = top ? top->position.size() : 0;
+    for (const InstanceMove& mv : m.moves)
+      if (mv.index >= instances) throw std::invalid_argument("control.moves: instance out of range");
+    engine.move_instances(m.moves);
+  }
+}
+
 Session::Session() : impl_(std::make_unique<Impl>()) {
   if (launched()) impl_->link = std::make_unique<MpiLink>();
 }
@@ -120,9 +137,15 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
     d.link->abort(3);
   };
   try {
+    d.options = o;
+    if (c.mode == RenderMode::conventional) {
+      d.serve_conventional(scene, c, camera);
+      d.link->flush();
+      d.link->send(0, kTagBye, {});
+      return 0;
+    }
     Engine engine(scene, c, camera);
     ChangeCollector collector(engine, c.owned_first, t);
-    const uint32_t instances = uint32_t(engine.instance_top() ? engine.instance_top()->position.size() : 0);
     auto send = [&](uint64_t tick) {
       Updates u;
       u.tick = tick;
@@ -147,18 +170,8 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
           attached = true;
           last = std::chrono::steady_clock::now();
         }
-        if (m.camera) engine.publish_camera_as(m.camera->second, m.camera->first);
-        if (!m.world.empty()) {
-          WorldState w = initial_world(scene);
-          if (!unpack_world(m.world.data(), m.world.size(), w))
-            throw std::invalid_argument("control.world: does not match the scene");
-          engine.publish_world(w);
-        }
-        if (!m.moves.empty()) {
-          for (const InstanceMove& mv : m.moves)
-            if (mv.index >= instances) throw std::invalid_argument("control.moves: instance out of range");
-          engine.move_instances(m.moves);
-        }
+        apply_changes(engine, scene, m);
+        if (m.frame || !m.pieces.empty()) throw std::invalid_argument("control.pieces: this rank renders frameless");
         if (m.advance) {
           if (!c.deterministic) throw std::invalid_argument("control.advance: this rank runs on the wall clock");
           if (m.advance->first != engine.ticks())
@@ -195,20 +208,45 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
   return 0;
 }
 
-void Session::attach(Engine& engine, const Scene& scene) {
+void Session::attach(Engine& engine, const Scene& scene, const ClusterOptions& o) {
   Impl& d = *impl_;
   d.engine = &engine;
+  d.options = o;
   d.sent_camera_epoch = 1;
   d.sent_world_epoch = 1;
   d.sent_instances_epoch = 1;
   d.sent_transforms.clear();
   if (const auto top = scene.accel.instance_top())
     for (uint32_t p : top->position) d.sent_transforms.push_back(top->instances[p].to_world);
-  if (engine.config().deterministic) {
+  const bool deterministic = engine.config().deterministic;
+  if (engine.config().mode == RenderMode::conventional) {
+    // OpenRT's way: frame 1 (begun when the engine started) goes out, then pieces on demand.
+    const size_t clients = size_t(d.link->size() - 1);
+    d.client_idle_ns.assign(clients, 0);
+    d.client_request_ns.assign(clients, 0);
+    d.client_requests.assign(clients, 0);
+    d.out_pieces.clear();
+    d.sent_frame_serial = 0;
+    if (deterministic) {
+      engine.set_remote_pieces([&d](const FrameSpec& f, const FramePiece& p) { d.conventional_round(f, p); });
+      d.send_all(d.changes());  // the clients start their engines now
+      return;
+    }
+    d.scheduler = std::make_unique<TileScheduler>(uint32_t(engine.job_first_slot().size() - 1), int(clients));
+    Control first = d.changes();
+    first.frame = engine.current_frame();
+    d.send_all(first);
+    d.sent_frame_serial = first.frame->serial;
+    d.scheduler->begin_frame(first.frame->serial);
+    d.comm_stop.store(false);
+    d.comm = std::thread([&d] { d.conventional_comm_main(); });
+    return;
+  }
+  if (deterministic) {
     engine.set_remote_advance([&d](uint64_t tick, double seconds) { d.advance_round(tick, seconds); });
   }
   d.send_all(d.changes());  // always one message: the clients start rendering now
-  if (!engine.config().deterministic) {
+  if (!deterministic) {
     d.comm_stop.store(false);
     d.comm = std::thread([&d] { d.comm_main(); });
   }
@@ -222,6 +260,8 @@ void Session::detach() {
     d.comm.join();
   }
   d.engine->set_remote_advance(nullptr);
+  d.engine->set_remote_pieces(nullptr);
+  d.scheduler.reset();
   d.engine = nullptr;
   d.release_clients();
 }
@@ -238,7 +278,7 @@ void Session::Impl::release_clients() {
   for (int r = 1; r < link->size(); ++r) {
     Backoff backoff;
     while (!link->poll(r, kTagBye, bytes))
-      if (!link->poll(r, kTagUpdates, bytes)) backoff.nap();
+      if (!link->poll(r, kTagUpdates, bytes) && !link->poll(r, kTagResults, bytes)) backoff.nap();
   }
 }
 

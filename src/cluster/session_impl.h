@@ -2,15 +2,21 @@
 // master_link.cpp (the master's communication); not a public interface.
 #pragma once
 #include <atomic>
+#include <memory>
 #include <mutex>
+#include <unordered_map>
 #include <thread>
 #include <vector>
 
 #include "cluster/cluster.h"
 #include "cluster/mpi_link.h"
+#include "cluster/tile_scheduler.h"
 #include "cluster/wire.h"
 
 namespace frameless::cluster {
+
+// A client mirrors what changed on the master (camera, world, instances), checked first.
+void apply_changes(Engine& engine, const Scene& scene, const Control& m);
 
 struct Session::Impl {
   std::unique_ptr<MpiLink> link;
@@ -29,6 +35,19 @@ struct Session::Impl {
   mutable std::mutex stats_mutex;
   ClusterStats stats;
 
+  // Conventional mode (conventional_master.cpp): OpenRT's tiles on demand.
+  struct OutPiece {
+    int client = 0;
+    uint32_t job = 0;  // ~0: a deterministic piece
+    FramePiece piece;
+  };
+  ClusterOptions options;
+  std::unique_ptr<TileScheduler> scheduler;
+  std::unordered_map<uint64_t, OutPiece> out_pieces;  // handed out, not back yet
+  uint64_t next_piece_id = 1;
+  uint64_t sent_frame_serial = 0;  // the newest frame spec the clients have
+  std::vector<uint64_t> client_idle_ns, client_request_ns, client_requests;  // from their results
+
   // The differential control message for what changed since the last one (may be empty).
   Control changes();
   bool has_changes(const Control& c) const {
@@ -40,6 +59,15 @@ struct Session::Impl {
   void comm_main();
   void release_clients();  // master: stop order to every client, then their goodbyes
   void advance_round(uint64_t tick, double seconds);
+  // Conventional mode, master: the communication loop, one deterministic stretch of a frame,
+  // and the pieces a Results message brings (checked against what was handed out).
+  void conventional_comm_main();
+  void conventional_round(const FrameSpec& spec, const FramePiece& piece);
+  void take_results(int from, const std::vector<uint8_t>& bytes);
+  void send_pieces(std::vector<TileScheduler::Assignment>& assigned);
+  void begin_frames_and_dispatch();
+  // Conventional mode, client: renders the pieces it is handed until the master says stop.
+  void serve_conventional(const Scene& scene, EngineConfig c, const Camera& camera);
   [[noreturn]] void fail(const std::string& line);
 };
 

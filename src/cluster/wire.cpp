@@ -1,6 +1,8 @@
 // Byte encoding of the cluster's messages: little-endian fixed-width fields, counts before
 // arrays, every read bounds-checked.
 #include "cluster/wire.h"
+#include "cluster/wire_io.h"
+#include "cluster/wire_pieces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,96 +11,12 @@
 #include <stdexcept>
 
 namespace frameless::cluster {
+using namespace wire_io;
+
 namespace {
 
-static_assert(sizeof(float) == 4 && sizeof(double) == 8);
-
-class Writer {
- public:
-  explicit Writer(size_t reserve = 64) { out_.reserve(reserve); head(); }
-  template <class T>
-  void put(const T& v) {
-    const size_t n = out_.size();
-    out_.resize(n + sizeof(T));
-    std::memcpy(out_.data() + n, &v, sizeof(T));
-  }
-  void str(const std::string& s) {
-    put(uint32_t(s.size()));
-    out_.insert(out_.end(), s.begin(), s.end());
-  }
-  std::vector<uint8_t> take() { return std::move(out_); }
-
- private:
-  void head() {
-    put(kWireMagic);
-    put(kWireVersion);
-  }
-  std::vector<uint8_t> out_;
-};
-
-class Reader {
- public:
-  Reader(const uint8_t* data, size_t size, const char* what) : p_(data), n_(size), what_(what) {
-    if (get<uint32_t>("magic") != kWireMagic) fail("magic", "not a frameless cluster message");
-    if (const uint32_t v = get<uint32_t>("version"); v != kWireVersion)
-      fail("version", "wire version " + std::to_string(v) + ", this build speaks " +
-                          std::to_string(kWireVersion));
-  }
-  template <class T>
-  T get(const char* field) {
-    if (n_ - i_ < sizeof(T)) fail(field, "message truncated");
-    T v;
-    std::memcpy(&v, p_ + i_, sizeof(T));
-    i_ += sizeof(T);
-    return v;
-  }
-  float finite(const char* field) {
-    const float v = get<float>(field);
-    if (!std::isfinite(v)) fail(field, "not finite");
-    return v;
-  }
-  // A count of items of at least `item_bytes` each: never more than the bytes left.
-  uint32_t count(const char* field, size_t item_bytes) {
-    const uint32_t c = get<uint32_t>(field);
-    if (item_bytes && uint64_t(c) * item_bytes > n_ - i_) fail(field, "count beyond the message");
-    return c;
-  }
-  std::string str(const char* field, size_t max) {
-    const uint32_t len = count(field, 1);
-    if (len > max) fail(field, "longer than " + std::to_string(max) + " bytes");
-    std::string s(reinterpret_cast<const char*>(p_ + i_), len);
-    i_ += len;
-    return s;
-  }
-  void end() {
-    if (i_ != n_) fail("end", std::to_string(n_ - i_) + " trailing bytes");
-  }
-  [[noreturn]] void fail(const char* field, const std::string& problem) const {
-    throw std::invalid_argument(std::string(what_) + "." + field + ": " + problem);
-  }
-
- private:
-  const uint8_t* p_;
-  size_t n_, i_ = 0;
-  const char* what_;
-};
-
-void put_camera(Writer& w, const Camera& c) {
-  for (const Vec3& v : {c.eye, c.look, c.up})
-    for (int k = 0; k < 3; ++k) w.put(v[k]);
-  w.put(c.fov_deg);
-}
-
-Camera get_camera(Reader& r) {
-  Camera c;
-  for (Vec3* v : {&c.eye, &c.look, &c.up})
-    for (int k = 0; k < 3; ++k) (*v)[k] = r.finite("camera");
-  c.fov_deg = r.finite("camera.fov");
-  if (!camera_is_valid(c)) r.fail("camera", "degenerate camera");
-  return c;
-}
-
-constexpr uint32_t kCamera = 1, kWorld = 2, kMoves = 4, kAdvance = 8, kStop = 16;  // Control kind bits
+constexpr uint32_t kCamera = 1, kWorld = 2, kMoves = 4, kAdvance = 8, kStop = 16, kFrame = 32,
+                   kPieces = 64;  // Control kind bits
 
 }  // namespace
 
@@ -126,7 +44,8 @@ Hello decode_hello(const uint8_t* data, size_t size) {
 std::vector<uint8_t> encode(const Control& m) {
   Writer w(128 + 4 * m.world.size() + 52 * m.moves.size());
   const uint32_t bits = (m.camera ? kCamera : 0) | (m.world.empty() ? 0 : kWorld) |
-                        (m.moves.empty() ? 0 : kMoves) | (m.advance ? kAdvance : 0) | (m.stop ? kStop : 0);
+                        (m.moves.empty() ? 0 : kMoves) | (m.advance ? kAdvance : 0) | (m.stop ? kStop : 0) |
+                        (m.frame ? kFrame : 0) | (m.pieces.empty() ? 0 : kPieces);
   w.put(bits);
   if (m.camera) {
     w.put(m.camera->first);
@@ -149,6 +68,7 @@ std::vector<uint8_t> encode(const Control& m) {
     w.put(m.advance->first);
     w.put(m.advance->second);
   }
+  put_frame_and_pieces(w, m);
   return w.take();
 }
 
@@ -156,7 +76,7 @@ Control decode_control(const uint8_t* data, size_t size) {
   Reader r(data, size, "control");
   Control m;
   const uint32_t bits = r.get<uint32_t>("kind");
-  if (bits & ~uint32_t(kCamera | kWorld | kMoves | kAdvance | kStop)) r.fail("kind", "unknown bits");
+  if (bits & ~uint32_t(kCamera | kWorld | kMoves | kAdvance | kStop | kFrame | kPieces)) r.fail("kind", "unknown bits");
   if (bits & kCamera) {
     const uint32_t epoch = r.get<uint32_t>("camera.epoch");
     if (epoch < 1) r.fail("camera.epoch", "must be at least 1");
@@ -185,6 +105,7 @@ Control decode_control(const uint8_t* data, size_t size) {
     if (!(seconds > 0.0 && seconds <= 1.0)) r.fail("advance.seconds", "must be in (0, 1]");
     m.advance.emplace(tick, seconds);
   }
+  get_frame_and_pieces(r, m, bits & kFrame, bits & kPieces);
   m.stop = bits & kStop;
   r.end();
   return m;
@@ -205,29 +126,15 @@ void encode_rgbe(const Vec3& c, uint8_t out[4]) {
   out[3] = uint8_t(e + 128);
 }
 
+bool canonical_rgbe(const uint8_t in[4]) {
+  return in[3] == 0 ? (in[0] | in[1] | in[2]) == 0 : std::max({in[0], in[1], in[2]}) >= 128;
+}
+
 Vec3 decode_rgbe(const uint8_t in[4]) {
   if (in[3] == 0) return Vec3(0.0f);
   const float f = std::ldexp(1.0f, int(in[3]) - (128 + 8));
   return Vec3((float(in[0]) + 0.5f) * f, (float(in[1]) + 0.5f) * f, (float(in[2]) + 0.5f) * f);
 }
-
-namespace {
-
-uint16_t to_bfloat16(float v) {
-  uint32_t u;
-  std::memcpy(&u, &v, 4);
-  u += 0x7fffu + ((u >> 16) & 1u);  // round to nearest even (finite, non-negative inputs)
-  return uint16_t(u >> 16);
-}
-
-float from_bfloat16(uint16_t h) {
-  const uint32_t u = uint32_t(h) << 16;
-  float v;
-  std::memcpy(&v, &u, 4);
-  return v;
-}
-
-}  // namespace
 
 std::vector<uint8_t> encode(const Updates& m) {
   size_t slots = 0;
@@ -292,10 +199,8 @@ Updates decode_updates(const uint8_t* data, size_t size) {
       if (m.format == WireFormat::rgbe) {
         uint8_t rgbe[8];
         for (uint8_t& byte : rgbe) byte = r.get<uint8_t>("rgbe");
-        for (int k = 0; k < 8; k += 4)  // canonical only: one encoding per colour
-          if (rgbe[k + 3] == 0 ? (rgbe[k] | rgbe[k + 1] | rgbe[k + 2]) != 0
-                               : std::max({rgbe[k], rgbe[k + 1], rgbe[k + 2]}) < 128)
-            r.fail("rgbe", "not a canonical RGBE colour");
+        if (!canonical_rgbe(rgbe) || !canonical_rgbe(rgbe + 4))  // one encoding per colour
+          r.fail("rgbe", "not a canonical RGBE colour");
         s.state.sample = decode_rgbe(rgbe);
         s.state.mean = decode_rgbe(rgbe + 4);
         s.state.variance = from_bfloat16(r.get<uint16_t>("variance"));

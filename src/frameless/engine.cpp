@@ -131,10 +131,13 @@ void Engine::start() {
       e.pick_up_instances(w.instances_epoch, w.frame.instances);
       w.moving = !e.scene.dynamic.empty() || w.world_epoch > 1 || w.frame.instances;
     }
-    e.frame_world = initial_world(e.scene);
-    e.frame_world_epoch = 0;
+    e.frame = FrameState{};
+    e.frame.world = initial_world(e.scene);
+    e.next_frame = e.frame;
+    e.next_begun = false;
     e.frames.middle.store(1, std::memory_order_relaxed);
     e.frames.back = 0;
+    e.frames.back2 = 3;
     e.frames.front = 2;
     e.frames.completed.store(0, std::memory_order_relaxed);
     e.next_job.store(0, std::memory_order_relaxed);
@@ -153,6 +156,12 @@ void Engine::start() {
   } else if (e.cfg.mode == RenderMode::frameless) {
     for (int t = 0; t < e.threads; ++t)
       if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(frameless_thread_main, std::ref(e), t);
+  } else if (e.cfg.owned_count >= 0) {
+    // Conventional across a cluster: a client's threads render the pieces its feed hands them;
+    // a master (no threads) assembles the frames from what the clients send (ingest_piece).
+    if (e.cfg.owned_count > 0 && !e.feed) throw std::logic_error("start: a cluster client needs a piece feed");
+    for (int t = 0; t < e.threads; ++t)
+      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(piece_thread_main, std::ref(e), t);
   } else {
     e.barrier = std::make_unique<std::barrier<Impl::FrameDone>>(e.threads, Impl::FrameDone{&e});
     for (int t = 0; t < e.threads; ++t)
@@ -164,6 +173,7 @@ void Engine::stop() {
   Impl& e = *impl_;
   if (!e.running) return;
   e.stop_flag.store(true, std::memory_order_relaxed);
+  if (e.feed) e.feed->close();
   if (e.cfg.deterministic) {
     std::lock_guard<std::mutex> lock(e.pool_mutex);
     e.pool_quit = true;
@@ -335,8 +345,13 @@ void Engine::advance(double tick_seconds) {
       run_pool(e, [&](int t) {
         const size_t b = base + take * size_t(t) / size_t(e.threads);
         const size_t en = base + take * size_t(t + 1) / size_t(e.threads);
-        conventional_range(e, t, b, en, tb + dt * double(b - base), dt);
+        conventional_range(e, t, e.frame, b, en, tb + dt * double(b - base), dt,
+                           e.frames.buf[e.frames.back].data(), nullptr);
       });
+      // Across a cluster the other ranks render the segment now (ingest_piece), split the same way.
+      if (e.remote_pieces)
+        e.remote_pieces(spec_of(e.frame), FramePiece{e.frame.serial, uint32_t(base),
+                                                     uint32_t(base + take), tb, dt});
       e.frame_pos += take;
       left -= take;
       done += take;

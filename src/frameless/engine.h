@@ -16,6 +16,7 @@
 #include "frameless/engine_config.h"
 #include "frameless/partition.h"
 #include "frameless/pixel_state.h"
+#include "frameless/remote_frames.h"
 #include "frameless/update_log.h"
 
 namespace frameless {
@@ -177,6 +178,39 @@ class Engine {
   // non-finite value or falling counters throw std::invalid_argument (one line), and nothing of
   // that batch is written.
   void ingest(const RemoteBatch& batch);
+
+  // Conventional frames across a cluster (src/cluster; frameless/remote_frames.h).
+  // Client: its render threads take pieces from `feed` (control thread, while stopped).
+  void set_piece_feed(PieceFeed* feed);
+  // Client: frame `spec` with this rank's newest world and instances. Any thread.
+  std::shared_ptr<const FrameState> remote_frame(const FrameSpec& spec) const;
+  // Client, deterministic: the render threads render what the feed hands them until next()
+  // returns false; returns when all are done. Control thread.
+  void render_feed();
+  // Master (its communication thread, or the control thread in deterministic mode): the frame
+  // being assembled, and the next one, begun now (newest camera, world, instances, instant)
+  // unless it already was (then nullopt). At most two frames are in flight.
+  FrameSpec current_frame() const;
+  std::optional<FrameSpec> begin_next_frame();
+  // Master: writes what a client rendered of a frame in flight (whole states of slots
+  // [piece.begin, piece.end), one record each) into the pixel states and that frame's buffer,
+  // counting it for render thread `thread`. Checked first (std::invalid_argument, one line,
+  // nothing written): mode, thread, frame serial, slot range, epochs, finite values.
+  // `busy_ns`: the CPU time of the remote rank's render threads so far (stats; 0: unchanged).
+  void ingest_piece(int thread, const FramePiece& piece, const PixelRecord* records,
+                    uint64_t samples, uint64_t dropped, uint64_t busy_ns = 0);
+  // Master: publishes the current frame (all its pieces ingested); the next becomes current.
+  void publish_current_frame();
+  // Master: the whole states of slots [begin, end) (handing pixels to another rank).
+  void read_records(uint32_t begin, uint32_t end, PixelRecord* out) const;
+  // Master, deterministic: called inside advance() for each stretch of a frame the tick covers,
+  // before the frame is published; the other ranks render it and ingest_piece() it.
+  void set_remote_pieces(std::function<void(const FrameSpec&, const FramePiece&)> fn);
+  // Conventional job order: slot i holds pixel job_pixels()[i]; job j covers slots
+  // [job_first_slot()[j], job_first_slot()[j + 1]). Control thread; valid until a reconfiguration.
+  const std::vector<uint32_t>& job_pixels() const;
+  const std::vector<size_t>& job_first_slot() const;
+
   // Display thread: the display interval index stamped into update-log records.
   void note_display_tick(uint32_t index);
 

@@ -26,7 +26,6 @@ std::string validate(const EngineConfig& c) {
   if (c.motion_history < 2 || c.motion_history > 65536) return "motion_history: must be 2..65536";
   if (c.owned_count >= 0) {
     if (c.threads < 1) return "owned_count: needs an explicit thread count";
-    if (c.mode != RenderMode::frameless) return "owned_count: a share of the threads renders in frameless mode only";
     if (c.owned_first < 0 || c.owned_first + c.owned_count > c.threads)
       return "owned_first: the owned threads must lie within 0..threads";
   } else if (c.owned_count != -1) {

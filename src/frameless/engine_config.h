@@ -68,8 +68,10 @@ struct EngineConfig {
   bool packets = true;
   // Cluster (src/cluster): this process renders only threads [owned_first, owned_first +
   // owned_count) of the `threads`-thread partition; the other threads' pixels are rendered by
-  // other processes and arrive through Engine::ingest(). -1: all threads (a single process);
-  // 0: none (the cluster master). Frameless mode only; `threads` must then be explicit.
+  // other processes and arrive through Engine::ingest() (frameless) or ingest_piece()
+  // (conventional: a client's threads render the pieces of its PieceFeed instead of the job
+  // list). -1: all threads (a single process); 0: none (the cluster master). `threads` must then
+  // be explicit.
   int owned_first = 0;
   int owned_count = -1;
 };

@@ -15,6 +15,7 @@
 #include "frameless/conventional_jobs.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
+#include "frameless/remote_frames.h"
 #include "frameless/world_channel.h"
 
 namespace frameless {
@@ -47,20 +48,35 @@ struct FramelessWorker {
   WorldState world;
   DynamicFrame frame;
   std::vector<float> world_buf;
-  uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame `frame` was evaluated for
+  uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame serial `frame` was evaluated for
   uint32_t instances_epoch = 1;          // moved instances in frame.instances (1: as built)
   bool moving = false;
 };
 
 // Conventional frames: render side writes `back`, publishes by exchanging it with `middle`;
-// the display takes `middle` into `front`. kNew marks an unconsumed frame.
+// the display takes `middle` into `front`. kNew marks an unconsumed frame. `back2` receives the
+// next frame while `back` is still being assembled (a cluster master's asynchronous frames).
 struct FrameBuffers {
   static constexpr uint32_t kNew = 4;
-  std::vector<PixelSnapshot> buf[3];
+  std::vector<PixelSnapshot> buf[4];
   std::atomic<uint32_t> middle{1};
-  uint32_t back = 0;   // render side (barrier completion / deterministic coordinator)
+  uint32_t back = 0;   // render side (barrier completion / deterministic coordinator / cluster master)
+  uint32_t back2 = 3;  // render side: the next frame's buffer
   uint32_t front = 2;  // display side
   std::atomic<uint64_t> completed{0};
+};
+
+// A conventional frame as this rank renders it: one camera, one instant, one world.
+struct FrameState {
+  uint64_t serial = 0;
+  uint32_t epoch = 0;
+  Camera camera;
+  CameraBasis basis;
+  double time = 0.0;
+  uint32_t world_epoch = 0;
+  WorldState world;
+  uint32_t instances_epoch = 1;
+  std::shared_ptr<const InstanceTop> instances;  // moved instances (null: as built)
 };
 
 struct Engine::Impl {
@@ -124,18 +140,14 @@ struct Engine::Impl {
   std::vector<size_t> job_first_pixel;  // job j renders job_pixels[first[j], first[j + 1])
   FrameBuffers frames;
 
-  // Conventional frame state: written in the barrier completion, read after the barrier.
+  // Conventional frame state: written in the barrier completion, read after the barrier (a
+  // cluster master: by its communication thread, or the control thread in deterministic mode).
   std::atomic<uint32_t> next_job{0};
-  uint32_t frame_epoch = 0;
-  CameraBasis frame_basis;
-  // The instant and world a conventional frame sees (one for the whole frame).
-  uint64_t frame_serial = 0;
-  double frame_time = 0.0;
-  uint32_t frame_world_epoch = 0;
-  WorldState frame_world;
-  uint32_t frame_instances_epoch = 1;
-  std::shared_ptr<const InstanceTop> frame_instances;  // moved instances (null: as built)
+  FrameState frame;       // the frame being rendered (or assembled)
+  FrameState next_frame;  // cluster master: the next frame, once begun (next_begun)
+  bool next_begun = false;
   std::vector<float> frame_world_buf;
+  PieceFeed* feed = nullptr;  // cluster client: where the render threads take pieces from
   bool frame_stop = false;
   size_t frame_pos = 0;  // deterministic: pixels of the current frame already rendered
   std::unique_ptr<std::barrier<FrameDone>> barrier;
@@ -162,6 +174,7 @@ struct Engine::Impl {
   bool pool_quit = false;
   std::function<void(int)> pool_task;
   std::function<void(uint64_t, double)> remote_advance;  // cluster master (Engine::set_remote_advance)
+  std::function<void(const FrameSpec&, const FramePiece&)> remote_pieces;  // (Engine::set_remote_pieces)
 
   double now() const {
     if (cfg.deterministic) return virtual_time.load(std::memory_order_relaxed);
@@ -176,8 +189,17 @@ void conventional_thread_main(Engine::Impl& e, int t);
 void pool_thread_main(Engine::Impl& e, int t);
 // Deterministic: `count` visits of worker w, visit i stamped with time t_begin + i * dt.
 void frameless_run(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_begin, double dt);
-// Renders job_pixels[begin, end) of the current frame on render thread t (conventional mode).
-void conventional_range(Engine::Impl& e, int t, size_t begin, size_t end, double t_begin, double dt);
+void piece_thread_main(Engine::Impl& e, int t);
+// Renders job_pixels[begin, end) of frame `f` on render thread t (conventional mode), into the
+// frame buffer `frame` (by pixel; null: none) and whole-state records `out` (by slot - begin;
+// null: none).
+void conventional_range(Engine::Impl& e, int t, const FrameState& f, size_t begin, size_t end,
+                        double t_begin, double dt, PixelSnapshot* frame, PixelRecord* out);
+// Renders one piece handed over by a cluster feed (its handed-over states first).
+void render_piece(Engine::Impl& e, int t, PieceJob& job);
+// Fills `f` with the newest camera, world and instances and the engine's instant.
+void fill_frame(Engine::Impl& e, FrameState& f, uint64_t serial);
+inline FrameSpec spec_of(const FrameState& f) { return FrameSpec{f.serial, f.epoch, f.camera, f.time}; }
 // Reads the newest camera into the frame state (conventional mode, between frames).
 void begin_frame(Engine::Impl& e);
 // Publishes the back frame buffer (conventional mode, after a complete frame).

@@ -185,12 +185,58 @@ TEST(ClusterCapture, ClientThatCannotStartStopsEveryRankWithOneLine) {
   }
 }
 
-TEST(ClusterCapture, ConventionalModeIsRefusedOnEveryRank) {
+// Conventional frames, OpenRT's way: each tick's stretch of a frame is split over the clients'
+// threads as one process splits it over its own, and pixel states travel with the pieces.
+TEST(ClusterCapture, ConventionalDeterministicTwoClientsEqualOneProcess) {
   FRAMELESS_REQUIRE_MPI();
-  const fs::path dir = fresh_dir("cluster_conv");
-  const CommandResult r = run_cluster(2, "capture --mode conventional --size 32x24 --duration 0.2 --out " + dir.string());
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(lines_with(r.output, "frameless:"), 1) << r.output;
+  const fs::path dir = fresh_dir("cluster_conv_det");
+  // A still camera (pixels accumulate over frames) with a cut; 350 pixels a tick do not divide
+  // the frame, so each pixel is rendered by other threads (and clients) from frame to frame.
+  const std::string capture = kBase + " --duration 1 --cut-at 0.5 --seed 3 --samples-per-tick 700 --mode conventional";
+  for (int t : {1, 2}) {
+    const std::string tag = std::to_string(t);
+    const CommandResult c = run_cluster(3, capture + " --threads " + tag + " --out " + (dir / ("cluster" + tag)).string());
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    const CommandResult s = run_frameless(capture + " --threads " + std::to_string(2 * t) + " --out " +
+                                          (dir / ("single" + tag)).string());
+    ASSERT_EQ(s.exit_code, 0) << s.output;
+    expect_same_frames(dir / ("cluster" + tag), dir / ("single" + tag));
+  }
+  // The comparison bites: frameless frames of the same run differ from conventional ones.
+  auto x = read_exr((dir / "single1" / "frame_00019.exr").string());
+  const CommandResult f = run_frameless(kCapture + " --threads 2 --out " + (dir / "frameless").string());
+  ASSERT_EQ(f.exit_code, 0) << f.output;
+  auto y = read_exr((dir / "frameless" / "frame_00019.exr").string());
+  ASSERT_TRUE(x.ok() && y.ok());
+  EXPECT_NE(x->channels.at("R"), y->channels.at("R"));
+}
+
+// Wall clock: pieces handed out on demand; every pixel of the last frame shows the newest camera
+// (the cut reached every client), and the frames are real renders (non-zero, finite).
+TEST(ClusterCapture, ConventionalWallClockFramesCoverEveryPixel) {
+  FRAMELESS_REQUIRE_MPI();
+  for (const std::string wire : {"exact", "rgbe"}) {
+    const fs::path dir = fresh_dir("cluster_conv_wall_" + wire);
+    const CommandResult c = run_cluster(3, "capture default --mode conventional --size 64x48 --refresh 10 "
+                                           "--duration 2 --cut-at 0.5 --threads 1 --no-mp4 --no-contact-sheet "
+                                           "--layers all --cluster-wire " + wire + " --out " + dir.string());
+    ASSERT_EQ(c.exit_code, 0) << c.output;
+    const std::vector<std::string> frames = frames_in(dir);
+    ASSERT_GE(frames.size(), 10u) << c.output;
+    auto last = read_exr((dir / frames.back()).string());
+    ASSERT_TRUE(last.ok());
+    const std::vector<float>& epoch = last->channels.at("epoch");
+    const float newest = *std::max_element(epoch.begin(), epoch.end());
+    EXPECT_GE(newest, 2.0f) << wire;
+    size_t stale = 0, lit = 0;
+    for (size_t i = 0; i < epoch.size(); ++i) {
+      stale += epoch[i] != newest;
+      lit += last->channels.at("R")[i] > 0.0f;
+      EXPECT_TRUE(std::isfinite(last->channels.at("R")[i]));
+    }
+    EXPECT_EQ(stale, 0u) << wire;
+    EXPECT_GT(lit, epoch.size() / 2) << wire;
+  }
 }
 
 }  // namespace

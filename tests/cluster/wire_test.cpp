@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -234,6 +235,172 @@ TEST(Wire, RgbeEncodesZeroBlackAndHugeAndIsCanonical) {
   bytes = encode(u);
   bytes[16] = 7;
   EXPECT_NE(refusal(updates, bytes).find("updates.format: unknown wire format 7"), std::string::npos);
+}
+
+// Conventional mode's messages: a control with a frame spec and pieces (handed-over states on
+// one of them), and a client's results, exact and with RGBE colours.
+PixelRecord sample_record(uint32_t k) {
+  PixelRecord r;
+  r.passes = 10 + k;
+  r.count = 3 + k;
+  r.epoch = 2;
+  r.mean[0] = 0.1 + 1e-12 * k, r.mean[1] = 0.5, r.mean[2] = 3.75;
+  r.m2 = 0.02 * k;
+  r.sample = Vec3(0.2f, 0.4f, 1e-30f);
+  r.time = 1.25f;
+  r.levels = uint8_t(k);
+  return r;
+}
+
+Control sample_pieces() {
+  Control c;
+  FrameSpec f;
+  f.serial = 5;
+  f.epoch = 2;
+  f.camera = sample_control().camera->second;
+  f.time = 0.75;
+  c.frame = f;
+  for (uint64_t id : {11u, 12u}) {
+    PieceOrder o;
+    o.id = id;
+    o.piece = FramePiece{5, uint32_t(id * 10), uint32_t(id * 10 + 3), 0.5, 1e-3};
+    if (id == 12)
+      for (uint32_t k = 0; k < 3; ++k) o.states.push_back(sample_record(k));
+    c.pieces.push_back(o);
+  }
+  return c;
+}
+
+Results sample_results(WireFormat f) {
+  Results r;
+  r.format = f;
+  r.want = 6;
+  r.idle_ns = 123;
+  r.request_ns = 456;
+  r.requests = 2;
+  r.busy_ns = 789;
+  PieceResult p;
+  p.id = 11;
+  p.piece = FramePiece{5, 110, 113, 0.5, 1e-3};
+  p.samples = 6;
+  p.dropped = 1;
+  for (uint32_t k = 0; k < 3; ++k) p.records.push_back(sample_record(k));
+  r.pieces.push_back(p);
+  return r;
+}
+
+void expect_same_piece(const FramePiece& a, const FramePiece& b) {
+  EXPECT_EQ(a.serial, b.serial);
+  EXPECT_EQ(a.begin, b.begin);
+  EXPECT_EQ(a.end, b.end);
+  EXPECT_EQ(a.t_begin, b.t_begin);
+  EXPECT_EQ(a.dt, b.dt);
+}
+
+void expect_same_record(const PixelRecord& a, const PixelRecord& b) {
+  EXPECT_EQ(a.passes, b.passes);
+  EXPECT_EQ(a.count, b.count);
+  EXPECT_EQ(a.epoch, b.epoch);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(a.mean[k], b.mean[k]);
+  EXPECT_EQ(a.m2, b.m2);
+  EXPECT_EQ(a.sample, b.sample);
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.levels, b.levels);
+}
+
+TEST(Wire, PiecesAndResultsRoundTripExactly) {
+  const Control c = sample_pieces();
+  const std::vector<uint8_t> cb = encode(c);
+  const Control d = decode_control(cb.data(), cb.size());
+  ASSERT_TRUE(d.frame);
+  EXPECT_EQ(d.frame->serial, 5u);
+  EXPECT_EQ(d.frame->epoch, 2u);
+  EXPECT_EQ(d.frame->camera.eye, c.frame->camera.eye);
+  EXPECT_EQ(d.frame->time, 0.75);
+  ASSERT_EQ(d.pieces.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(d.pieces[i].id, c.pieces[i].id);
+    expect_same_piece(d.pieces[i].piece, c.pieces[i].piece);
+    ASSERT_EQ(d.pieces[i].states.size(), c.pieces[i].states.size());
+    for (size_t k = 0; k < c.pieces[i].states.size(); ++k) expect_same_record(d.pieces[i].states[k], c.pieces[i].states[k]);
+  }
+  const Results r = sample_results(WireFormat::exact);
+  const std::vector<uint8_t> rb = encode(r);
+  EXPECT_EQ(rb.size(), 8 + 4 + 4 + 32 + 4 + (8 + 32 + 16 + 4 + 3 * kPieceRecordBytes));
+  const Results e = decode_results(rb.data(), rb.size());
+  EXPECT_EQ(e.want, 6u);
+  EXPECT_EQ(e.idle_ns, 123u);
+  EXPECT_EQ(e.request_ns, 456u);
+  EXPECT_EQ(e.requests, 2u);
+  EXPECT_EQ(e.busy_ns, 789u);
+  ASSERT_EQ(e.pieces.size(), 1u);
+  EXPECT_EQ(e.pieces[0].samples, 6u);
+  EXPECT_EQ(e.pieces[0].dropped, 1u);
+  expect_same_piece(e.pieces[0].piece, r.pieces[0].piece);
+  for (size_t k = 0; k < 3; ++k) expect_same_record(e.pieces[0].records[k], r.pieces[0].records[k]);
+}
+
+TEST(Wire, RgbeResultsAreSmallerAndKeepCountsExact) {
+  const Results r = sample_results(WireFormat::rgbe);
+  const std::vector<uint8_t> rb = encode(r);
+  EXPECT_EQ(rb.size(), 8 + 4 + 4 + 32 + 4 + (8 + 32 + 16 + 4 + 3 * kCompactPieceRecordBytes));
+  const Results e = decode_results(rb.data(), rb.size());
+  for (size_t k = 0; k < 3; ++k) {
+    const PixelRecord &a = r.pieces[0].records[k], &b = e.pieces[0].records[k];
+    EXPECT_EQ(a.passes, b.passes);
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.epoch, b.epoch);
+    EXPECT_EQ(a.time, b.time);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.mean[c], a.mean[c], 3.75 / 256.0);
+    EXPECT_NEAR(b.m2, a.m2, a.m2 / 128.0 + 1e-12);
+  }
+}
+
+TEST(Wire, MalformedPiecesAndResultsAreRefusedWithOneLine) {
+  const auto control = [](const uint8_t* p, size_t n) { return decode_control(p, n); };
+  const auto results = [](const uint8_t* p, size_t n) { return decode_results(p, n); };
+  for (const auto& [bytes, is_results] :
+       {std::pair{encode(sample_pieces()), false}, std::pair{encode(sample_results(WireFormat::exact)), true},
+        std::pair{encode(sample_results(WireFormat::rgbe)), true}}) {
+    for (size_t n = 0; n < bytes.size(); ++n) {
+      const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + std::ptrdiff_t(n));
+      const std::string why = is_results ? refusal(results, cut) : refusal(control, cut);
+      ASSERT_FALSE(why.empty()) << n << " of " << bytes.size() << " bytes accepted";
+      EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    }
+  }
+  // A result with fewer records than its piece has slots; an empty piece; a negative m2; a
+  // piece of frame 0; more samples than two per slot; a variance with one sample (RGBE).
+  Results r = sample_results(WireFormat::exact);
+  r.pieces[0].records.pop_back();
+  std::vector<uint8_t> b = encode(r);
+  EXPECT_NE(refusal(results, b).find("results.records: not one per slot"), std::string::npos);
+  r = sample_results(WireFormat::exact);
+  r.pieces[0].piece.end = r.pieces[0].piece.begin;
+  r.pieces[0].records.clear();
+  b = encode(r);
+  EXPECT_NE(refusal(results, b).find("results.piece.end: empty"), std::string::npos);
+  r = sample_results(WireFormat::exact);
+  r.pieces[0].records[1].m2 = -1.0;
+  b = encode(r);
+  EXPECT_NE(refusal(results, b).find("results.record.m2"), std::string::npos);
+  r = sample_results(WireFormat::exact);
+  r.pieces[0].piece.serial = 0;
+  b = encode(r);
+  EXPECT_NE(refusal(results, b).find("results.piece.serial"), std::string::npos);
+  r = sample_results(WireFormat::exact);
+  r.pieces[0].samples = 7;
+  b = encode(r);
+  EXPECT_NE(refusal(results, b).find("results.piece.samples"), std::string::npos);
+  r = sample_results(WireFormat::rgbe);
+  r.pieces[0].records[0].count = 1;
+  r.pieces[0].records[0].m2 = 0.0;
+  b = encode(r);
+  const float one = 1.0f;  // bfloat16 1.0 into the first record's variance
+  const uint16_t bf = uint16_t(std::bit_cast<uint32_t>(one) >> 16);
+  const size_t var_at = 8 + 4 + 4 + 32 + 4 + 8 + 32 + 16 + 4 + 12 + 8;
+  std::memcpy(b.data() + var_at, &bf, 2);
+  EXPECT_NE(refusal(results, b).find("results.record.variance: non-zero with fewer than two"), std::string::npos);
 }
 
 }  // namespace

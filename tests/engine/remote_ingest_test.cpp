@@ -141,9 +141,9 @@ TEST(RemoteIngest, OwnedShareRendersOnlyItsThreadsAndCamerasKeepTheMastersEpochs
   EngineConfig bad = c;
   bad.owned_first = 3;  // 3 + 2 > 4 threads
   EXPECT_NE(validate(bad), "");
-  bad = c;
-  bad.mode = RenderMode::conventional;
-  EXPECT_NE(validate(bad), "");
+  EngineConfig conventional = c;  // a conventional share renders the pieces of a PieceFeed
+  conventional.mode = RenderMode::conventional;
+  EXPECT_EQ(validate(conventional), "");
   bad = c;
   bad.threads = 0;
   EXPECT_NE(validate(bad), "");

@@ -314,10 +314,11 @@ void run_wire(const std::string& input) {
   const size_t n = input.size() - 1;
   try {
     std::vector<uint8_t> again;
-    switch (uint8_t(input[0]) % 3) {
+    switch (uint8_t(input[0]) % 4) {
       case 0: again = cluster::encode(cluster::decode_hello(p, n)); break;
       case 1: again = cluster::encode(cluster::decode_control(p, n)); break;
-      default: again = cluster::encode(cluster::decode_updates(p, n)); break;
+      case 2: again = cluster::encode(cluster::decode_updates(p, n)); break;
+      default: again = cluster::encode(cluster::decode_results(p, n)); break;
     }
     if (again.size() != n || std::memcmp(again.data(), p, n) != 0) {
       std::fprintf(stderr, "scene_fuzzer: a wire message does not encode back to its bytes\n");
