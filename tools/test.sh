@@ -32,6 +32,12 @@ cluster_tsan_jobs() {
   "${mpi[@]}" "$bin" capture default --deterministic --size 64x48 --threads 2 --refresh 20 \
     --duration 1 --no-mp4 --orbit 40 --out "$out/deterministic"
   "${mpi[@]}" "$bin" bench cluster --one --size 160x90 --seconds 1 --threads 1 --cluster-wire rgbe >/dev/null
+  # Conventional frames: pieces on demand (two render threads per client take them from the
+  # communication thread's queue), and a deterministic run with states handed between clients.
+  "${mpi[@]}" "$bin" capture default --mode conventional --size 64x48 --threads 2 --refresh 20 \
+    --duration 2 --no-mp4 --orbit 40 --out "$out/conventional"
+  "${mpi[@]}" "$bin" capture default --mode conventional --deterministic --size 48x36 --threads 1 \
+    --refresh 20 --duration 1 --no-mp4 --samples-per-tick 700 --out "$out/conventional-det"
 }
 if [ $cluster_tsan = 1 ]; then
   section "ThreadSanitizer: whole cluster jobs under mpirun"

@@ -199,6 +199,19 @@ void conventional_range(Engine::Impl& e, int t, const FrameState& f, size_t begi
 void render_piece(Engine::Impl& e, int t, PieceJob& job);
 // Fills `f` with the newest camera, world and instances and the engine's instant.
 void fill_frame(Engine::Impl& e, FrameState& f, uint64_t serial);
+// The whole state of pixel `idx` held in `p` (relaxed loads: for the states' one writer).
+inline PixelRecord record_of(const Engine::Impl& e, const PixelState& p, uint32_t idx) {
+  constexpr auto r = std::memory_order_relaxed;
+  PixelRecord o;
+  o.passes = p.passes.load(r);
+  o.count = p.count.load(r);
+  o.epoch = p.epoch.load(r);
+  for (int c = 0; c < 3; ++c) o.mean[c] = p.mean[c].load(r), o.sample[c] = p.sample[c].load(r);
+  o.m2 = p.m2.load(r);
+  o.time = p.time.load(r);
+  o.levels = e.levels[idx].load(r);
+  return o;
+}
 inline FrameSpec spec_of(const FrameState& f) { return FrameSpec{f.serial, f.epoch, f.camera, f.time}; }
 // Reads the newest camera into the frame state (conventional mode, between frames).
 void begin_frame(Engine::Impl& e);

@@ -126,18 +126,8 @@ void Engine::ingest_piece(int thread, const FramePiece& piece, const PixelRecord
 void Engine::read_records(uint32_t begin, uint32_t end, PixelRecord* out) const {
   const Impl& e = *impl_;
   if (begin > end || end > e.pixel_count) throw std::out_of_range("read_records: slots out of range");
-  constexpr auto r = std::memory_order_relaxed;  // the caller is the states' one writer
-  for (uint32_t i = begin; i < end; ++i) {
-    const PixelState& p = e.states[i];
-    PixelRecord& o = out[i - begin];
-    o.passes = p.passes.load(r);
-    o.count = p.count.load(r);
-    o.epoch = p.epoch.load(r);
-    for (int c = 0; c < 3; ++c) o.mean[c] = p.mean[c].load(r), o.sample[c] = p.sample[c].load(r);
-    o.m2 = p.m2.load(r);
-    o.time = p.time.load(r);
-    o.levels = e.levels[e.job_pixels[i]].load(r);
-  }
+  for (uint32_t i = begin; i < end; ++i)  // the caller is the states' one writer
+    out[i - begin] = record_of(e, e.states[i], e.job_pixels[i]);
 }
 
 void Engine::set_remote_pieces(std::function<void(const FrameSpec&, const FramePiece&)> fn) {

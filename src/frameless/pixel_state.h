@@ -84,23 +84,29 @@ struct PixelSnapshot {
   uint8_t levels = 0;
 };
 
+// Every field of `p` into `out` with relaxed loads (not seq or levels): consistent when the
+// caller is the pixel's owner, or inside read_pixel()'s sequence check.
+inline void load_state(const PixelState& p, PixelSnapshot& out) {
+  out.count = p.count.load(std::memory_order_relaxed);
+  out.epoch = p.epoch.load(std::memory_order_relaxed);
+  for (int c = 0; c < 3; ++c) {
+    out.mean[c] = float(p.mean[c].load(std::memory_order_relaxed));
+    out.sample[c] = p.sample[c].load(std::memory_order_relaxed);
+  }
+  const double m2 = p.m2.load(std::memory_order_relaxed);
+  out.variance = out.count > 1 ? float(m2 / double(out.count - 1)) : 0.0f;
+  out.time = p.time.load(std::memory_order_relaxed);
+}
+
 // Display side: reads `p` without tearing. Retries while the owner writes; returns false (and
 // leaves `out` unspecified) if it could not get a stable copy within `max_tries`.
 inline bool read_pixel(const PixelState& p, PixelSnapshot& out, int max_tries = 64) {
   for (int i = 0; i < max_tries; ++i) {
     const uint32_t s0 = p.seq.load(std::memory_order_acquire);
     if (s0 & 1u) continue;
-    out.count = p.count.load(std::memory_order_relaxed);
-    out.epoch = p.epoch.load(std::memory_order_relaxed);
-    for (int c = 0; c < 3; ++c) {
-      out.mean[c] = float(p.mean[c].load(std::memory_order_relaxed));
-      out.sample[c] = p.sample[c].load(std::memory_order_relaxed);
-    }
-    const double m2 = p.m2.load(std::memory_order_relaxed);
-    out.time = p.time.load(std::memory_order_relaxed);
+    load_state(p, out);
     std::atomic_thread_fence(std::memory_order_acquire);
     if (p.seq.load(std::memory_order_relaxed) == s0) {
-      out.variance = out.count > 1 ? float(m2 / double(out.count - 1)) : 0.0f;
       out.seq = s0;
       return true;
     }

@@ -75,18 +75,9 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
                       std::memory_order_relaxed);
   if (valid == 0) {
     if (frame) {  // the frame shows what the pixel last published (the owner reads its own state)
-      PixelSnapshot& f = *frame;
-      f.count = p.count.load(std::memory_order_relaxed);
-      f.epoch = p.epoch.load(std::memory_order_relaxed);
-      for (int c = 0; c < 3; ++c) {
-        f.mean[c] = float(p.mean[c].load(std::memory_order_relaxed));
-        f.sample[c] = p.sample[c].load(std::memory_order_relaxed);
-      }
-      const double m2 = p.m2.load(std::memory_order_relaxed);
-      f.variance = f.count > 1 ? float(m2 / double(f.count - 1)) : 0.0f;
-      f.time = p.time.load(std::memory_order_relaxed);
-      f.seq = p.seq.load(std::memory_order_relaxed);
-      f.levels = e.levels[idx].load(std::memory_order_relaxed);
+      load_state(p, *frame);
+      frame->seq = p.seq.load(std::memory_order_relaxed);
+      frame->levels = e.levels[idx].load(std::memory_order_relaxed);
     }
     return;
   }
@@ -330,19 +321,8 @@ void conventional_range(Engine::Impl& e, int t, const FrameState& f, size_t begi
     trace_batch(e, b, f.basis, w.moving ? &w.frame : nullptr, nullptr);
     for (int k = 0; k < b.n; ++k)
       finish_update(e, b.idx[k], *b.state[k], f.epoch, float(b.t[k]), ctr, b.frame[k], world, b.r[k]);
-    if (out)
-      for (int k = 0; k < b.n; ++k) {
-        const PixelState& p = *b.state[k];  // this thread wrote it: relaxed reads are exact
-        constexpr auto r = std::memory_order_relaxed;
-        PixelRecord& o = out[first + size_t(k) - begin];
-        o.passes = p.passes.load(r);
-        o.count = p.count.load(r);
-        o.epoch = p.epoch.load(r);
-        for (int c = 0; c < 3; ++c) o.mean[c] = p.mean[c].load(r), o.sample[c] = p.sample[c].load(r);
-        o.m2 = p.m2.load(r);
-        o.time = p.time.load(r);
-        o.levels = e.levels[b.idx[k]].load(r);
-      }
+    if (out)  // this thread wrote the states: relaxed reads are exact
+      for (int k = 0; k < b.n; ++k) out[first + size_t(k) - begin] = record_of(e, *b.state[k], b.idx[k]);
   }
   ctr.updates.store(ctr.updates.load(std::memory_order_relaxed) + (end - begin),
                     std::memory_order_release);

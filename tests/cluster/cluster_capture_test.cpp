@@ -249,14 +249,16 @@ TEST(ClusterView, ViewerUnderXvfbShowsTheClientsPixels) {
   FRAMELESS_REQUIRE_MPI();
   if (run_shell("command -v xvfb-run").exit_code != 0) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
   const fs::path dir = fresh_dir("cluster_view");
-  const std::string shot = (dir / "shot.png").string(), script = (dir / "script.txt").string();
-  std::ofstream(script) << "0.8 orbit 40 0\n1.0 key M\n2.0 screenshot " << shot << "\n2.1 quit\n";
-  const CommandResult r = run_shell(kMpiEnv + " xvfb-run -a -s '-screen 0 640x480x24' timeout 120 mpirun "
-                                    "--oversubscribe -np 3 " + FRAMELESS_BINARY + " view default --size 160x120 --threads 1 --script " +
-                                    script);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  ASSERT_TRUE(fs::exists(shot)) << r.output;
-  EXPECT_GT(fs::file_size(shot), 2000u);  // a rendered picture, not an empty frame
+  for (const std::string mode : {"frameless", "conventional"}) {
+    const std::string shot = (dir / (mode + ".png")).string(), script = (dir / "script.txt").string();
+    std::ofstream(script) << "0.8 orbit 40 0\n1.0 key M\n2.0 screenshot " << shot << "\n2.1 quit\n";
+    const CommandResult r = run_shell(kMpiEnv + " xvfb-run -a -s '-screen 0 640x480x24' timeout 120 mpirun "
+                                      "--oversubscribe -np 3 " + FRAMELESS_BINARY + " view default --size 160x120 --threads 1 --mode " +
+                                      mode + " --script " + script);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    ASSERT_TRUE(fs::exists(shot)) << r.output;
+    EXPECT_GT(fs::file_size(shot), 2000u) << mode;  // a rendered picture, not an empty frame
+  }
 }
 
 }  // namespace
