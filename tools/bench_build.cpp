@@ -189,7 +189,7 @@ int run_build_bench(const BuildBenchArgs& a) {
         break;
       }
       Best& ours = nt == 1 ? ours1 : oursn;
-      Best& emb = nt == 1 ? emb1 : embn;
+      [[maybe_unused]] Best& emb = nt == 1 ? emb1 : embn;
       const AccelConfig& config = nt == 1 ? serial : parallel;
 #if defined(FRAMELESS_HAVE_EMBREE)
       std::unique_ptr<EmbreeBench::BuildTimer> timer;
