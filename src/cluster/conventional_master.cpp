@@ -88,7 +88,7 @@ void Session::Impl::begin_frames_and_dispatch() {
     send_pieces(assigned);
     const std::optional<FrameSpec> spec = engine->begin_next_frame();
     if (!spec) throw std::logic_error("cluster: next frame already begun");
-    Control c = changes();
+    Control c = frame_changes(spec->serial);
     c.frame = *spec;
     const std::vector<uint8_t> bytes = encode(c);
     for (int r = 1; r < link->size(); ++r) link->send_async(r, kTagControl, bytes);
@@ -128,7 +128,7 @@ void Session::Impl::conventional_round(const FrameSpec& spec, const FramePiece& 
   std::vector<bool> expect(size_t(clients), false);
   Control news;  // a new frame: what changed (differential), then its spec, to every client
   if (spec.serial != sent_frame_serial) {
-    news = changes();
+    news = frame_changes(spec.serial);
     news.frame = spec;
   }
   for (int c = 0; c < clients; ++c) {

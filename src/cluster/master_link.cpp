@@ -26,21 +26,37 @@ Control Session::Impl::changes() {
     pack_world(engine->world(), c.world);
     sent_world_epoch = w;
   }
-  if (const uint32_t i = engine->instances_epoch(); i != sent_instances_epoch) {
-    // Only the instances whose transform differs from what the clients have (attach() filled
-    // sent_transforms with the declared ones: what every client built).
-    const std::shared_ptr<const InstanceTop> top = engine->instance_top();  // one snapshot
-    for (uint32_t k = 0; top && k < sent_transforms.size() && k < top->position.size(); ++k) {
-      const Affine& a = top->instances[top->position[k]].to_world;
-      const Affine& old = sent_transforms[k];
-      if (a.m != old.m || a.t != old.t) {
-        c.moves.push_back({k, a});
-        sent_transforms[k] = a;
-      }
-    }
-    sent_instances_epoch = i;
-  }
+  if (const uint32_t i = engine->instances_epoch(); i != sent_instances_epoch)
+    add_moves(c, i, engine->instance_top());  // one snapshot
   return c;
+}
+
+Control Session::Impl::frame_changes(uint64_t serial) {
+  // A conventional frame sees the world and instances of the instant it began, which may be
+  // older than the newest: the clients get exactly those.
+  const FrameWorld f = engine->frame_world(serial);
+  Control c;
+  if (f.world_epoch != sent_world_epoch) {
+    pack_world(f.world, c.world);
+    sent_world_epoch = f.world_epoch;
+  }
+  if (f.instances_epoch != sent_instances_epoch)
+    add_moves(c, f.instances_epoch, f.instances ? f.instances : scene->accel.instance_top());
+  return c;
+}
+
+void Session::Impl::add_moves(Control& c, uint32_t epoch, const std::shared_ptr<const InstanceTop>& top) {
+  // Only the instances whose transform differs from what the clients have (attach() filled
+  // sent_transforms with the declared ones: what every client built).
+  for (uint32_t k = 0; top && k < sent_transforms.size() && k < top->position.size(); ++k) {
+    const Affine& a = top->instances[top->position[k]].to_world;
+    const Affine& old = sent_transforms[k];
+    if (a.m != old.m || a.t != old.t) {
+      c.moves.push_back({k, a});
+      sent_transforms[k] = a;
+    }
+  }
+  sent_instances_epoch = epoch;
 }
 
 void Session::Impl::send_all(const Control& c) {

@@ -211,6 +211,7 @@ int Session::serve(const Scene& scene, EngineConfig c, const Camera& camera, con
 void Session::attach(Engine& engine, const Scene& scene, const ClusterOptions& o) {
   Impl& d = *impl_;
   d.engine = &engine;
+  d.scene = &scene;
   d.options = o;
   d.sent_camera_epoch = 1;
   d.sent_world_epoch = 1;
@@ -229,11 +230,11 @@ void Session::attach(Engine& engine, const Scene& scene, const ClusterOptions& o
     d.sent_frame_serial = 0;
     if (deterministic) {
       engine.set_remote_pieces([&d](const FrameSpec& f, const FramePiece& p) { d.conventional_round(f, p); });
-      d.send_all(d.changes());  // the clients start their engines now
+      d.send_all(Control{});  // the clients start their engines now
       return;
     }
     d.scheduler = std::make_unique<TileScheduler>(uint32_t(engine.job_first_slot().size() - 1), int(clients));
-    Control first = d.changes();
+    Control first = d.frame_changes(engine.current_frame().serial);
     first.frame = engine.current_frame();
     d.send_all(first);
     d.sent_frame_serial = first.frame->serial;

@@ -25,6 +25,7 @@ struct Session::Impl {
 
   // Master side.
   Engine* engine = nullptr;
+  const Scene* scene = nullptr;
   std::thread comm;  // wall clock: the communication thread
   std::atomic<bool> comm_stop{false};
   // What the clients already have (written by whichever thread drives MPI at the time).
@@ -48,8 +49,11 @@ struct Session::Impl {
   uint64_t sent_frame_serial = 0;  // the newest frame spec the clients have
   std::vector<uint64_t> client_idle_ns, client_request_ns, client_requests;  // from their results
 
-  // The differential control message for what changed since the last one (may be empty).
+  // The differential control message for what changed since the last one (may be empty): the
+  // newest camera, world and instances, or (conventional) what frame `serial` sees.
   Control changes();
+  Control frame_changes(uint64_t serial);
+  void add_moves(Control& c, uint32_t epoch, const std::shared_ptr<const InstanceTop>& top);
   bool has_changes(const Control& c) const {
     return c.camera || !c.world.empty() || !c.moves.empty();
   }

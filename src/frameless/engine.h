@@ -192,6 +192,9 @@ class Engine {
   // unless it already was (then nullopt). At most two frames are in flight.
   FrameSpec current_frame() const;
   std::optional<FrameSpec> begin_next_frame();
+  // Master: the world and instances frame `serial` (current or next) sees; std::out_of_range
+  // for another frame.
+  FrameWorld frame_world(uint64_t serial) const;
   // Master: writes what a client rendered of a frame in flight (whole states of slots
   // [piece.begin, piece.end), one record each) into the pixel states and that frame's buffer,
   // counting it for render thread `thread`. Checked first (std::invalid_argument, one line,

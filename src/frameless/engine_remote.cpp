@@ -61,6 +61,15 @@ std::optional<FrameSpec> Engine::begin_next_frame() {
   return spec_of(e.next_frame);
 }
 
+FrameWorld Engine::frame_world(uint64_t serial) const {
+  const Impl& e = *impl_;
+  const FrameState* f = serial == e.frame.serial ? &e.frame
+                        : e.next_begun && serial == e.next_frame.serial ? &e.next_frame
+                                                                       : nullptr;
+  if (!f) throw std::out_of_range("frame_world: frame " + std::to_string(serial) + " is not in flight");
+  return FrameWorld{f->world_epoch, f->world, f->instances_epoch, f->instances};
+}
+
 void Engine::publish_current_frame() {
   Impl& e = *impl_;
   if (!e.next_begun) begin_next_frame();

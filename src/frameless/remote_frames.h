@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/dynamic.h"
+#include "core/instance_top.h"
 #include "core/types.h"
 
 namespace frameless {
@@ -19,6 +21,14 @@ struct FrameSpec {
   uint32_t epoch = 0;   // camera epoch
   Camera camera;
   double time = 0.0;    // the instant the frame shows (the master's engine seconds)
+};
+
+// What a frame sees of what moves (a master sends the clients the frame's own, not the newest).
+struct FrameWorld {
+  uint32_t world_epoch = 0;
+  WorldState world;
+  uint32_t instances_epoch = 1;
+  std::shared_ptr<const InstanceTop> instances;  // null: as built
 };
 
 // Everything of one pixel's state (PixelState) and its reflection level: whoever renders the

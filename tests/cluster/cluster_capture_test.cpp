@@ -211,6 +211,38 @@ TEST(ClusterCapture, ConventionalDeterministicTwoClientsEqualOneProcess) {
   EXPECT_NE(x->channels.at("R"), y->channels.at("R"));
 }
 
+// What a conventional frame sees of moving instances is the instant it began, not the newest
+// (the capture moves them every tick): the clients get the frame's own.
+TEST(ClusterCapture, ConventionalDeterministicWithMovingInstancesEqualsOneProcess) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_conv_motion");
+  const fs::path scene = dir / "bounce.json";
+  std::ofstream(scene) << R"({
+    "camera": {"eye": [0, 2.5, 6], "look": [0, 0.6, 0], "up": [0, 1, 0], "fov": 45},
+    "lights": [{"type": "point", "position": [3, 6, 4], "color": [1, 1, 1]}],
+    "materials": {"floor": {"class": "diffuse", "kd": [0.6, 0.6, 0.6]},
+                  "red": {"class": "diffuse", "kd": [0.7, 0.1, 0.1]}},
+    "meshes": {"tetra": {"type": "triangles", "material": "red",
+        "vertices": [[-0.8, 0, -0.8], [0.8, 0, -0.8], [0, 0, 0.8], [0, 1.4, 0]],
+        "indices": [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]]}},
+    "objects": [
+      {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "size": 20, "material": "floor"},
+      {"type": "instance", "mesh": "tetra", "transform": {"translate": [-1, 0, 0]},
+       "motion": {"type": "bounce", "height": 1.0, "period": 0.7}},
+      {"type": "instance", "mesh": "tetra", "transform": {"translate": [1, 0, 0]}}
+    ]})";
+  const std::string capture = "capture " + scene.string() +
+                              " --deterministic --size 48x36 --refresh 20 --layers all --no-mp4 --no-contact-sheet"
+                              " --duration 1 --seed 3 --samples-per-tick 864 --mode conventional";
+  // 432 pixels a tick: every frame ends with a tick, so the next one begins before the capture
+  // moves the instance for the next tick, and its first stretch is rendered after the move.
+  const CommandResult c = run_cluster(3, capture + " --threads 1 --out " + (dir / "cluster").string());
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const CommandResult s = run_frameless(capture + " --threads 2 --out " + (dir / "single").string());
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  expect_same_frames(dir / "cluster", dir / "single");
+}
+
 // Wall clock: pieces handed out on demand; every pixel of the last frame shows the newest camera
 // (the cut reached every client), and the frames are real renders (non-zero, finite).
 TEST(ClusterCapture, ConventionalWallClockFramesCoverEveryPixel) {
