@@ -5,12 +5,15 @@
 #include "cluster/session_impl.h"
 #include "core/dynamic.h"
 #include "frameless/cpu_clock.h"
+#include "frameless/output_commit.h"
 
 namespace frameless::cluster {
 
 void Session::Impl::fail(const std::string& line) {
   std::fprintf(stderr, "frameless: cluster: %s\n", line.c_str());
   std::fflush(stderr);
+  // A capture frame being written is finished and listed first; held until the process is gone.
+  const std::unique_lock<std::mutex> frozen = freeze_output_commits();
   link->abort(3);  // every rank ends now: a fault must not hang the job
 }
 

@@ -20,6 +20,7 @@
 #include "display/osmesa_context.h"
 #include "display/png_io.h"
 #include "frameless/engine.h"
+#include "frameless/output_commit.h"
 
 namespace frameless {
 namespace {
@@ -65,6 +66,8 @@ struct Writer {
   // new is left behind.
   Result<bool> write_frame(const DisplayImage& img, uint64_t samples, double wall_time,
                            const Camera& camera) {
+    // A fatal abort (a cluster rank failed) waits for this frame's files and manifest to agree.
+    const std::lock_guard<std::mutex> commit(output_commit_mutex());
     const int index = int(manifest.frames.size());
     const std::string name = capture_frame_name(index);
     const std::string path = join(opt.out_dir, name);

@@ -8,6 +8,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +24,7 @@
 #include "display/manifest.h"
 #include "display/osmesa_context.h"
 #include "frameless/engine.h"
+#include "frameless/output_commit.h"
 
 namespace fs = std::filesystem;
 
@@ -240,6 +244,39 @@ TEST(Capture, WriteFailureMidCaptureLeavesAConsistentSequence) {
                                                      "frame_00002.exr", "manifest.json"}));
     for (const ManifestFrame& f : m->frames) EXPECT_TRUE(read_exr(dir + "/" + f.file).ok());
   }
+}
+
+// The cluster's fatal path (MPI_Abort) freezes output commits before it ends the process: a frame
+// caught between its EXR and the manifest that lists it is finished first.
+TEST(Capture, FreezingCommitsWaitsForTheFrameBeingListed) {
+  const std::string dir = temp_dir("freeze");
+  std::atomic<int> manifest_writes{0};
+  std::atomic<bool> in_commit{false};
+  CaptureHooks hooks;
+  hooks.before_write = [&](const std::string& path) -> std::optional<std::string> {
+    // The 4th manifest write lists frame 2, whose EXR is already on disk: linger there.
+    if (fs::path(path).filename() == "manifest.json" && ++manifest_writes == 4) {
+      in_commit = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    }
+    return std::nullopt;
+  };
+  std::set<std::string> on_disk;
+  std::vector<std::string> listed;
+  std::thread fatal([&] {
+    while (!in_commit) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const std::unique_lock<std::mutex> frozen = freeze_output_commits();
+    for (const std::string& f : files_in(dir))
+      if (f.rfind("frame_", 0) == 0) on_disk.insert(f);
+    auto m = read_manifest(dir + "/manifest.json");
+    ASSERT_TRUE(m.ok());
+    for (const ManifestFrame& f : m->frames) listed.push_back(f.file);
+  });
+  auto r = run_capture(scene(), small_options(dir), hooks);
+  fatal.join();
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(on_disk, std::set<std::string>(listed.begin(), listed.end()));
+  EXPECT_GE(listed.size(), 3u);
 }
 
 TEST(Capture, UnwritableFolderIsRefusedBeforeRendering) {
