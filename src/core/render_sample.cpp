@@ -24,6 +24,13 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;
+    out.position = ray.org + ray.dir * hit.t;
+    out.object = is_dynamic_prim(hit.prim) ? kPointDynamic + (hit.prim - kDynamicPrimBase)
+                 : hit.inst != kInvalidId  ? kPointInstance + (hit.inst & 0x0fffffffu)
+                                           : kPointStatic;
+  } else {
+    out.position = ray.dir;
+    out.object = kPointSky;
   }
   // Drop any sample in which a NaN or Inf arose; the caller counts it.
   out.valid = is_finite(out.color) && is_finite(out.normal) && out.depth == out.depth &&
@@ -32,6 +39,7 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
     out.color = Vec3(0.0f);
     out.normal = Vec3(0.0f);
     out.depth = kInfinity;
+    out.object = kPointNone;
   }
   return out;
 }

@@ -12,7 +12,21 @@ struct SampleResult {
   Vec3 normal{0.0f};  // shading normal at the primary hit (zero on a miss)
   bool valid = true;  // false: a NaN/Inf arose and the sample must be dropped (and counted)
   uint8_t levels = 0; // deepest reflection/refraction level traced (seed figure 1d), saturating
+  // What reprojection needs (the render cache): the primary hit point in world space (the ray
+  // direction on a miss) and what was hit (kPoint* below).
+  Vec3 position{0.0f};
+  uint32_t object = 0;
 };
+
+// SampleResult::object: nothing yet, the sky (position is a direction), the static scene, a
+// dynamic object (kPointDynamic + its index) or an instance (kPointInstance + its index): the
+// last two may move, so their reprojected pixels are stale.
+inline constexpr uint32_t kPointNone = 0;
+inline constexpr uint32_t kPointSky = 1;
+inline constexpr uint32_t kPointStatic = 2;
+inline constexpr uint32_t kPointDynamic = 0x10000000u;
+inline constexpr uint32_t kPointInstance = 0x20000000u;
+inline bool point_may_move(uint32_t object) { return object >= kPointDynamic; }
 
 // Traces the primary ray through continuous image position (px, py); rng_seed drives any
 // stochastic choice inside shading. frame: the moving objects, lights and materials at the

@@ -17,6 +17,8 @@
 #include <mutex>
 #include <thread>
 
+#include "display/display_pixel.h"
+#include "display/reproject.h"
 #include "frameless/cpu_clock.h"
 
 namespace frameless {
@@ -26,17 +28,6 @@ constexpr uint32_t kNew = 4;
 constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
 constexpr uint64_t kHistory = 8;       // ticks of change lists kept (buffers and consumers catch up from them)
 constexpr size_t kIntervalsKept = 1024;
-
-// One displayed pixel and its layers, kept together (see DisplayImage for their meaning).
-struct DisplayPixel {
-  float rgb[3] = {0.0f, 0.0f, 0.0f};
-  float last_update = -1.0f;
-  uint32_t count = 0;
-  float variance = 0.0f;
-  uint32_t epoch = 0;
-  uint32_t seq = 0;  // engine sequence number of the update shown: the same one is not blended twice
-};
-static_assert(sizeof(DisplayPixel) == 32, "two pixels per cache line");
 
 // The engine's slot order and its inverse (built once per layout by the display thread).
 struct SlotLayout {
@@ -83,6 +74,9 @@ struct PixelImage {
   LayoutPtr layout;
   std::vector<DisplayPixel> px;
   std::vector<uint8_t> levels;  // by slot like px, apart because DisplayPixel fills 32 bytes
+  // Reprojection only (else empty): each shown pixel's primary hit and its marks, by slot.
+  std::vector<ScenePoint> points;
+  std::vector<uint8_t> marks;
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
 
@@ -95,6 +89,21 @@ struct PixelImage {
     layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
     levels.assign(pixels(), 0);
+    points.clear();
+    marks.clear();
+  }
+  bool tracks_points() const { return !points.empty(); }
+  void reset_points() {
+    points.clear();
+    marks.clear();
+  }
+  void track_points() {  // reprojection turned on: nothing shown has a point yet
+    points.assign(pixels(), ScenePoint{});
+    marks.assign(pixels(), kMarkNone);
+  }
+  SlotImage slots() {
+    return {width, height, layout ? layout->pixel_of->data() : nullptr,
+            layout ? layout->slot_of.data() : nullptr, px.data(), points.data(), levels.data(), marks.data()};
   }
 };
 
@@ -152,10 +161,16 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   const size_t n = src.pixels();
   dst.px.resize(n);
   dst.levels.resize(n);
+  dst.points.resize(src.points.size());
+  dst.marks.resize(src.marks.size());
   for (size_t s = 0; s < n; ++s) {
     const uint32_t from = src.slot_of(dst.pixel_of(s));
     dst.px[s] = src.px[from];
     dst.levels[s] = src.levels[from];
+    if (src.tracks_points()) {
+      dst.points[s] = src.points[from];
+      dst.marks[s] = src.marks[from];
+    }
   }
 }
 
@@ -181,6 +196,12 @@ struct DisplayThread::Impl {
   LayoutPtr layout;             // the engine's current slot order, with its inverse
   std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
   ChangeHistory history;  // what the last ticks changed
+  // Reprojection: the camera the image was last moved to (epoch 0: none yet) and scratch.
+  uint32_t reproject_epoch = 0;
+  CameraBasis reproject_basis;
+  Reprojector reprojector;
+  PixelImage reprojected;
+  ReprojectTotals reproject_totals;
 
   // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
   // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
@@ -225,6 +246,15 @@ struct DisplayThread::Impl {
     ++epoch_count[to % kEpochRing];
   }
 
+  // Recounts the coverage from scratch (after reprojection moved epochs around).
+  void recount_epochs(const PixelImage& img) {
+    epoch_tag.assign(kEpochRing, 0);
+    epoch_count.assign(kEpochRing, 0);
+    for (const DisplayPixel& p : img.px)
+      if (p.epoch != 0) count_epoch(0, p.epoch);
+  }
+  bool reproject(PixelImage& img, bool enabled);
+
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
   void publish();
@@ -235,12 +265,15 @@ namespace {
 
 // Blends one tick's collected updates into the back buffer, slot run by slot run (display thread).
 struct TickSink final : UpdateSink {
-  TickSink(DisplayThread::Impl& display, const BlendConfig& config) : d(display), rule(config) {}
+  TickSink(DisplayThread::Impl& display, const DisplayConfig& config)
+      : d(display), rule(config.blend), reproject(config.reproject) {}
 
   DisplayThread::Impl& d;
   const BlendRule rule;
+  bool reproject = false;     // asked for; on in frameless mode only
   PixelImage* image = nullptr;
   const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
+  const PixelPoint* points = nullptr;            // the engine's, by pixel (reprojection only)
   std::vector<SlotRun>* dirty = nullptr;
   bool full = false;          // this tick changed (or cleared) the whole image
   bool conventional = false;
@@ -251,7 +284,14 @@ struct TickSink final : UpdateSink {
   void begin(const CollectResult& r) override;
   void slots(size_t first, const PixelState* states, size_t count) override;
   void frame(const std::vector<PixelSnapshot>& pixels) override;
-  void show(DisplayPixel& m, const PixelSnapshot& u);
+  void show(DisplayPixel& m, const PixelSnapshot& u, bool guess);
+  void redirect(const PixelSnapshot& u, const ScenePoint& point);
+  void mark_dirty(size_t first, size_t count) {
+    if (full) return;
+    dirty->push_back({uint32_t(first), uint32_t(count)});
+    dirty_slots += count;
+    if (dirty_slots > image->pixels() / 4) full = true;  // cheaper to copy everything
+  }
 };
 
 }  // namespace
@@ -263,12 +303,17 @@ void TickSink::begin(const CollectResult& r) {
   levels = r.levels;
   dirty = &d.history.runs[d.tick_index % kHistory];
   dirty->clear();
+  reproject = reproject && !conventional && r.points;
+  if (d.reproject(*image, reproject)) full = true;
+  points = reproject ? r.points : nullptr;
 }
 
-inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u) {
+// `guess`: what the pixel shows was guessed by reprojection (a crack, a disocclusion, something
+// that may have moved): the first real sample replaces it whole.
+inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u, bool guess) {
   bool bad = false;
-  const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), m.epoch,
-                             m.last_update, u, &bad);
+  const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]),
+                             guess ? 0u : m.epoch, m.last_update, u, &bad);
   rejected += bad;
   d.count_epoch(m.epoch, u.epoch);
   m.rgb[0] = c.x;
@@ -281,6 +326,31 @@ inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u) {
   ++changed;
 }
 
+// An update rendered with a camera older than the one the image was moved to belongs where its
+// point now projects (the render cache): blended there if nothing nearer is shown, never at its
+// own pixel, which shows moved content by now.
+void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
+  float px, py, depth;
+  const CameraBasis& b = d.reproject_basis;
+  if (!project_point(b, point, px, py, depth)) return;
+  const size_t slot = image->slot_of(size_t(int(py)) * size_t(image->width) + size_t(int(px)));
+  uint8_t& mark = image->marks[slot];
+  const ScenePoint& shown = image->points[slot];
+  float sx, sy, shown_depth;
+  const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
+  if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
+  DisplayPixel& m = image->px[slot];
+  const Vec3 c = (mark & kMarkGuess) ? u.sample : blend(Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u.sample, rule.config.alpha);
+  if (!is_finite(c)) return;
+  m.rgb[0] = c.x;
+  m.rgb[1] = c.y;
+  m.rgb[2] = c.z;
+  image->points[slot] = point;
+  mark = kMarkMoved;
+  ++d.reproject_totals.redirected;
+  mark_dirty(slot, 1);
+}
+
 void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   DisplayPixel* px = image->px.data() + first;
   uint8_t* lv = image->levels.data() + first;
@@ -288,22 +358,33 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   for (size_t i = 0; i < count; ++i) {
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == px[i].seq) continue;
-    show(px[i], u);
     px[i].seq = u.seq;
+    if (points) {
+      const size_t pixel = image->pixel_of(first + i);
+      // Read after the state's seq: this point is the update's or a newer one's.
+      const ScenePoint point = load_point(points[pixel]);
+      if (u.epoch < d.reproject_epoch) {
+        redirect(u, point);
+        continue;
+      }
+      uint8_t& mark = image->marks[first + i];
+      show(px[i], u, mark & kMarkGuess);
+      image->points[first + i] = point;
+      mark = kMarkNone;
+    } else {
+      show(px[i], u, false);
+    }
     // Read after the state's seq: these levels are the shown update's or a newer one's.
     if (levels) lv[i] = levels[image->pixel_of(first + i)].load(std::memory_order_relaxed);
   }
-  if (full) return;
-  dirty->push_back({uint32_t(first), uint32_t(count)});
-  dirty_slots += count;
-  if (dirty_slots > image->pixels() / 4) full = true;  // cheaper to copy everything
+  mark_dirty(first, count);
 }
 
 void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
   const size_t n = std::min(pixels.size(), image->px.size());
   for (size_t i = 0; i < n; ++i) {
     if (pixels[i].epoch == 0) continue;
-    show(image->px[i], pixels[i]);
+    show(image->px[i], pixels[i], false);
     image->px[i].seq = 0;  // frames carry no sequence number; frameless updates compare against 0
     image->levels[i] = pixels[i].levels;
   }
@@ -317,7 +398,7 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
     cfg = config;
   }
   engine.note_display_tick(uint32_t(tick_index));
-  TickSink sink(*this, cfg.blend);
+  TickSink sink(*this, cfg);
   const CollectResult r = engine.collect(cursor, sink);
   const bool full = sink.full;
   history.full[tick_index % kHistory] = full;
@@ -378,14 +459,70 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.layout = src.layout;
     img.px = src.px;
     img.levels = src.levels;
+    img.points = src.points;
+    img.marks = src.marks;
     return false;
   }
+  if (img.points.size() != src.points.size()) {  // reprojection was just turned on or off
+    img.points = src.points;
+    img.marks = src.marks;
+  }
+  const bool points = src.tracks_points();
   for (uint64_t t = have; t < tick_index; ++t)
     for (const SlotRun& run : history.runs[t % kHistory]) {
       std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
       std::memcpy(&img.levels[run.first], &src.levels[run.first], run.count);
+      if (points) {
+        std::memcpy(&img.points[run.first], &src.points[run.first], run.count * sizeof(ScenePoint));
+        std::memcpy(&img.marks[run.first], &src.marks[run.first], run.count);
+      }
     }
   return false;
+}
+
+// Moves the back buffer to the newest camera, once per camera change; true when it did.
+bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled) {
+  if (!enabled) {
+    if (img.tracks_points()) img.reset_points();
+    reproject_epoch = 0;
+    return false;
+  }
+  if (!img.tracks_points()) {  // just turned on, or cleared: nothing shown has a point yet
+    img.track_points();
+    reproject_epoch = 0;
+  }
+  uint32_t epoch = 0;
+  const Camera camera = engine.camera(&epoch);
+  if (epoch == reproject_epoch) return false;  // a still camera is never reprojected
+  const bool first = reproject_epoch == 0;
+  const CameraBasis before = reproject_basis;
+  reproject_epoch = epoch;
+  reproject_basis = make_camera_basis(camera, img.width, img.height);
+  if (first) return false;
+  const double c0 = thread_cpu_seconds();
+  PixelImage& out = reprojected;
+  out.width = img.width;
+  out.height = img.height;
+  out.layout = img.layout;
+  const size_t n = img.pixels();
+  out.px.resize(n);
+  out.levels.resize(n);
+  out.points.resize(n);
+  out.marks.resize(n);
+  const ReprojectStats st = reprojector.run(before, reproject_basis, img.slots(), out.slots());
+  std::swap(img.px, out.px);
+  std::swap(img.levels, out.levels);
+  std::swap(img.points, out.points);
+  std::swap(img.marks, out.marks);
+  recount_epochs(img);
+  ReprojectTotals& t = reproject_totals;
+  ++t.reprojections;
+  t.moved += st.moved;
+  t.filled += st.filled;
+  t.disoccluded += st.disoccluded;
+  t.stale += st.stale;
+  t.cpu_seconds += thread_cpu_seconds() - c0;
+  return true;
 }
 
 void DisplayThread::Impl::publish() {
@@ -439,6 +576,7 @@ void DisplayThread::Impl::thread_main() {
         stats.mean_interval = interval_sum / double(intervals.size());
       }
       stats.rejected = rejected;
+      stats.reproject = reproject_totals;
       first = false;
     }
   } catch (const std::exception& ex) {
@@ -523,6 +661,7 @@ DisplayStats DisplayThread::stats() const {
   if (!d.running) {
     s.ticks = d.tick_index;
     s.rejected = d.rejected;
+    s.reproject = d.reproject_totals;
     s.pixels_updated = d.pixels_updated;
   }
   return s;

@@ -19,6 +19,20 @@ namespace frameless {
 struct DisplayConfig {
   double refresh_hz = 60.0;  // ticks per second, 1..240 (also the virtual tick in deterministic mode)
   BlendConfig blend;         // alpha, time-based decay, convergence
+  // Frameless mode: when the camera changes, move what is shown to where it now belongs (the
+  // render cache; display/reproject.h) instead of showing the old view until re-rendered.
+  bool reproject = false;
+};
+
+// What reprojection did since the display started.
+struct ReprojectTotals {
+  uint64_t reprojections = 0;  // camera changes the image was moved for
+  uint64_t moved = 0;          // pixels moved (summed over reprojections)
+  uint64_t filled = 0;         // cracks closed from a neighbour
+  uint64_t disoccluded = 0;    // uncovered pixels guessed from the background around them
+  uint64_t stale = 0;          // pixels showing what may move
+  uint64_t redirected = 0;     // updates of an older camera shown where their point now projects
+  double cpu_seconds = 0;      // display-thread CPU spent reprojecting (part of cpu_seconds)
 };
 
 // Always-on display instrumentation.
@@ -32,6 +46,7 @@ struct DisplayStats {
   double wall_seconds = 0;        // wall time since start
   double tick_end_seconds = 0;    // wall time (since start) when the last counted tick ended
   uint64_t rejected = 0;          // non-finite values stopped before the image
+  ReprojectTotals reproject;
 };
 
 class DisplayThread {

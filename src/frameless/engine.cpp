@@ -70,6 +70,7 @@ void rebuild_layout(Engine::Impl& e, const EngineConfig& config) {
   if (resized) {
     e.states.reset(new PixelState[n]);
     e.levels.reset(new std::atomic<uint8_t>[n]());  // by pixel: a new slot order keeps it
+    e.points.reset(new PixelPoint[n]);
     ++e.cleared;
   } else if (slot_of != e.slot_of) {
     std::unique_ptr<PixelState[]> states(new PixelState[n]);
@@ -382,6 +383,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.height = e.cfg.height;
   r.slot_pixel = e.display_order;
   r.levels = e.levels.get();
+  r.points = e.points.get();
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
   const int threads = e.threads;  // counters always have this many entries (see rebuild_layout)

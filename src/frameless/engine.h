@@ -15,6 +15,7 @@
 #include "core/scene.h"
 #include "frameless/engine_config.h"
 #include "frameless/partition.h"
+#include "frameless/pixel_points.h"
 #include "frameless/pixel_state.h"
 #include "frameless/remote_frames.h"
 #include "frameless/update_log.h"
@@ -64,6 +65,9 @@ struct CollectResult {
   // Deepest reflection/refraction level of each pixel's newest update, by pixel (y * width + x),
   // written by the render threads after the state (relaxed): valid until collect() returns.
   const std::atomic<uint8_t>* levels = nullptr;
+  // Primary hit of each pixel's newest update, by pixel, written like the levels (null before
+  // the first layout): what reprojection moves (frameless/pixel_points.h).
+  const PixelPoint* points = nullptr;
   uint32_t newest_epoch = 0; // newest published camera epoch
   uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
   uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()

@@ -15,6 +15,7 @@
 #include "frameless/conventional_jobs.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
+#include "frameless/pixel_points.h"
 #include "frameless/remote_frames.h"
 #include "frameless/world_channel.h"
 
@@ -124,6 +125,9 @@ struct Engine::Impl {
   // Deepest reflection/refraction level of each pixel's newest update, by pixel (y * width + x),
   // beside the states because PixelState fills its cache line; frameless/pixel_levels.h.
   std::unique_ptr<std::atomic<uint8_t>[]> levels;
+  // Primary hit of each pixel's newest update, by pixel like the levels: what the display's
+  // reprojection moves (frameless/pixel_points.h).
+  std::unique_ptr<PixelPoint[]> points;
   std::vector<uint32_t> slot_of;
   std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
   // Frameless: the pixel each slot holds, shared with the display (immutable once built); null

@@ -62,10 +62,12 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   Vec3 colors[2];
   int valid = 0;
   uint8_t levels = 0;  // the reflection depth view's value: the deepest valid sample
+  const SampleResult* nearest = nullptr;  // reprojection's point: the nearest valid hit
   for (int j = 0; j < spu; ++j)
     if (r[j].valid && is_finite(r[j].color)) {
       colors[valid++] = r[j].color;
       levels = std::max(levels, r[j].levels);
+      if (!nearest || r[j].depth < nearest->depth) nearest = &r[j];
     }
   ctr.samples.store(ctr.samples.load(std::memory_order_relaxed) + uint64_t(spu),
                     std::memory_order_relaxed);
@@ -125,7 +127,10 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   const Vec3 sample = sum / float(valid);
 
   const uint32_t seq =
-      publish_state(p, count, epoch, mean, m2, sample, time, [&] { store_levels(e, idx, levels, frame); });
+      publish_state(p, count, epoch, mean, m2, sample, time, [&] {
+        store_levels(e, idx, levels, frame);
+        store_point(e.points[idx], *nearest);
+      });
 
   if (frame) {
     frame->sample = sample;

@@ -1,0 +1,30 @@
+// One displayed pixel and its layers as the display thread keeps them (by slot), with the marks
+// reprojection leaves; see DisplayImage for the layers' meaning.
+#pragma once
+#include <cstdint>
+
+namespace frameless {
+
+struct DisplayPixel {
+  float rgb[3] = {0.0f, 0.0f, 0.0f};
+  float last_update = -1.0f;
+  uint32_t count = 0;
+  float variance = 0.0f;
+  uint32_t epoch = 0;
+  uint32_t seq = 0;  // engine sequence number of the update shown: the same one is not blended twice
+};
+static_assert(sizeof(DisplayPixel) == 32, "two pixels per cache line");
+
+// What reprojection left in a pixel (one byte per slot): its content was moved there from
+// another pixel, copied from a neighbour to close a crack, guessed for a disocclusion, or shows
+// something that may have moved since. The last three are guesses: the next sample replaces them.
+enum PixelMark : uint8_t {
+  kMarkNone = 0,
+  kMarkMoved = 1,
+  kMarkFilled = 2,
+  kMarkDisoccluded = 4,
+  kMarkStale = 8,
+};
+inline constexpr uint8_t kMarkGuess = kMarkFilled | kMarkDisoccluded | kMarkStale;
+
+}  // namespace frameless

@@ -1,0 +1,66 @@
+// Reprojection (the render cache, Walter, Drettakis and Parker 1999), display thread only: when
+// the camera changes, every displayed pixel moves to where its primary hit now projects (forward
+// splat, the nearest point wins); cracks are closed from the surface around them and
+// disocclusions filled from the farthest content nearby (what a foreground object uncovers is
+// background), both marked, so render threads can fill them first and the blend replaces them
+// whole. Works in the display's slot order.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/camera.h"
+#include "display/display_pixel.h"
+#include "frameless/pixel_points.h"
+
+namespace frameless {
+
+// Where `point` appears in camera `to`: continuous pixel position and its depth along the view
+// axis (+infinity for the sky, whose position is a direction). False behind the eye or outside.
+bool project_point(const CameraBasis& to, const ScenePoint& point, float& px, float& py, float& depth);
+
+struct ReprojectStats {
+  size_t moved = 0;        // pixels that received a moved pixel
+  size_t filled = 0;       // cracks closed from a neighbour
+  size_t disoccluded = 0;  // uncovered pixels (guessed from the background around them)
+  size_t stale = 0;        // pixels showing something that may move (dynamic objects, instances)
+};
+
+// The display image, by slot: slot s holds pixel pixel_of[s] (identity when null).
+struct SlotImage {
+  int width = 0;
+  int height = 0;
+  const uint32_t* pixel_of = nullptr;
+  const uint32_t* slot_of = nullptr;
+  DisplayPixel* px = nullptr;
+  ScenePoint* points = nullptr;
+  uint8_t* levels = nullptr;
+  uint8_t* marks = nullptr;
+  size_t pixels() const { return size_t(width) * size_t(height); }
+  uint32_t slot(size_t pixel) const { return slot_of ? slot_of[pixel] : uint32_t(pixel); }
+  uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }
+};
+
+class Reprojector {
+ public:
+  // `to` <- `from`, shown from camera `before`, moved to camera `after` (same size and slot
+  // order). Each pixel moves by its point's motion between the two cameras (so a point anywhere
+  // inside its pixel, as jitter leaves it, moves the pixel's centre by as much). Slots without a point
+  // (never rendered) move nowhere; a disoccluded pixel with nothing landed within `max_fill`
+  // pixels keeps `from`'s own content, marked. Each slot keeps its seq.
+  ReprojectStats run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
+                     const SlotImage& to, int max_fill = 3);
+
+ private:
+  std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far
+  std::vector<uint32_t> source_; // by pixel: the slot of `from` it shows (kNone: a hole)
+  struct Fill {
+    uint32_t pixel, source;
+    float depth;
+  };
+  std::vector<uint8_t> marks_;   // by pixel: kMarkMoved, or how a hole was filled
+  std::vector<uint32_t> holes_;  // pixels nothing landed on
+  std::vector<uint32_t> next_;   // those that are no crack
+  std::vector<Fill> fills_;      // a pass's fills, applied together after it
+};
+
+}  // namespace frameless
