@@ -1,5 +1,7 @@
 // Exponential-decay blending of new samples into the displayed image; display thread (pure math).
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "core/types.h"
@@ -12,6 +14,10 @@ struct BlendConfig {
   bool time_decay = false;   // a = 1 - exp(-dt / decay_seconds), dt = time since the pixel's last blend
   float decay_seconds = 0.05f;  // time constant of the time-based decay
   bool converge = true;      // still camera: show the running mean once it beats the blend
+  // Per-pixel temporal weight (as Adaptive Frameless Rendering reconstructs): where a new sample
+  // agrees with what the pixel shows (within its noise), a long history (alpha / 2: sharper);
+  // where it disagrees (motion), a short one (up to 1: fresh).
+  bool temporal = false;
 };
 
 // displayed (1 - alpha) + sample alpha, per channel.
@@ -21,6 +27,19 @@ inline Vec3 blend(const Vec3& displayed, const Vec3& sample, float alpha) {
 
 // Weight of a new sample under time-based decay after `dt` seconds (0 <= result <= 1).
 float decay_alpha(float dt, float decay_seconds);
+
+// The temporal weight of a sample: `alpha` halved where the sample and the shown colour agree
+// within the pixel's noise (2 sigma of its luminance plus 5 % of the level), rising to 1 where
+// they differ by three times that.
+inline float temporal_alpha(float alpha, const Vec3& shown, const PixelSnapshot& u) {
+  auto lum = [](const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; };
+  const float ls = lum(u.sample), lp = lum(shown);
+  const float sigma = u.variance > 0.0f ? std::sqrt(u.variance) : 0.0f;
+  const float tolerance = 2.0f * sigma + 0.05f * std::max(std::fabs(ls), std::fabs(lp)) + 0.01f;
+  const float t = std::clamp((std::fabs(ls - lp) - tolerance) / (2.0f * tolerance), 0.0f, 1.0f);
+  const float low = 0.5f * alpha;
+  return t == t ? low + (1.0f - low) * t : alpha;
+}
 
 // Samples after which a pixel's running mean has lower variance than the exponential blend
 // (whose variance is a / (2 - a) of one sample's): n >= (2 - a) / a.
@@ -48,8 +67,9 @@ inline Vec3 blend_pixel(const BlendRule& rule, bool conventional, const Vec3& pr
     // Camera unchanged and the running mean now beats the blend: a still image sharpens.
     result = u.mean;
   } else {
-    const float a = config.time_decay ? decay_alpha(u.time - previous_time, config.decay_seconds)
-                                      : config.alpha;
+    float a = config.time_decay ? decay_alpha(u.time - previous_time, config.decay_seconds)
+                                : config.alpha;
+    if (config.temporal) a = temporal_alpha(a, previous, u);
     result = blend(previous, u.sample, a);
   }
   const bool bad = !is_finite(result);

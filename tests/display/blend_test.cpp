@@ -80,3 +80,37 @@ TEST(Blend, NonFiniteNeverReachesTheImage) {
 
 }  // namespace
 }  // namespace frameless
+
+namespace frameless {
+namespace {
+
+// Temporal weights: agreement within the noise keeps a long history, disagreement a short one.
+TEST(TemporalBlend, AgreementHalvesAlphaDisagreementTakesTheSample) {
+  PixelSnapshot u;
+  u.variance = 0.0004f;  // sigma 0.02
+  u.sample = Vec3(0.51f);
+  EXPECT_FLOAT_EQ(temporal_alpha(0.5f, Vec3(0.5f), u), 0.25f);  // within 2 sigma + 5 %
+  u.sample = Vec3(2.0f);
+  EXPECT_FLOAT_EQ(temporal_alpha(0.5f, Vec3(0.5f), u), 1.0f);  // far outside: motion
+  u.sample = Vec3(0.62f);  // in between: in between
+  const float mid = temporal_alpha(0.5f, Vec3(0.5f), u);
+  EXPECT_GT(mid, 0.25f);
+  EXPECT_LT(mid, 1.0f);
+  // A noisier pixel tolerates the same difference.
+  u.variance = 0.01f;
+  EXPECT_FLOAT_EQ(temporal_alpha(0.5f, Vec3(0.5f), u), 0.25f);
+  // The blend uses it only when asked for; a still pixel still converges to its mean.
+  BlendConfig c;
+  c.temporal = true;
+  u.variance = 0.0f;
+  u.sample = Vec3(2.0f);
+  u.epoch = 2;
+  u.count = 1;
+  bool bad = false;
+  EXPECT_EQ(blend_pixel(c, false, Vec3(0.5f), 1, 0.0f, u, &bad), Vec3(2.0f));
+  c.temporal = false;
+  EXPECT_EQ(blend_pixel(c, false, Vec3(0.5f), 1, 0.0f, u, &bad), Vec3(1.25f));
+}
+
+}  // namespace
+}  // namespace frameless
