@@ -8,7 +8,7 @@
 
 #include "core/scene_io.h"
 #include "display/capture.h"
-#include "tools/cluster_join.h"
+#include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 #include "tools/engine_flags.h"
@@ -17,8 +17,8 @@ namespace frameless::cli {
 namespace {
 
 struct CaptureArgs {
-  ClusterFlags cluster;
-  ShadowFlags shadows;
+  ClusterJoinOptions cluster;
+  ShadowOptions shadows;
   std::string scene = "default";
   std::string out = "captures/capture";
   std::string size = "320x240";
@@ -33,7 +33,7 @@ struct CaptureArgs {
   bool no_converge = false;
   uint64_t samples_per_tick = 0;
   bool no_sheet = false, no_mp4 = false;
-  CameraFlags camera;
+  CameraOptions camera;
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -70,7 +70,7 @@ int run(const CaptureArgs& a) {
   o.blend.converge = !a.no_converge;
   if (const std::string bad = validate(e); !bad.empty()) return report_error(bad);
   ClusterJoin cluster;
-  cluster.flags = a.cluster;
+  cluster.requested = a.cluster;
   if (!cluster.start(error)) return report_error(error);
   std::string load_error;
   std::unique_ptr<Scene> scene;
@@ -141,8 +141,8 @@ const bool registered = register_command(
       auto a = std::make_shared<CaptureArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
-      a->shadows.add_to(app);
-      a->cluster.add_to(app);
+      add_shadow_flags(app, a->shadows);
+      add_cluster_flags(app, a->cluster);
       app.add_option("--out", a->out, "output folder (frames, manifest.json, contact_sheet.png)")
           ->capture_default_str();
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
@@ -169,7 +169,7 @@ const bool registered = register_command(
                      "deterministic: samples per refresh over all threads (0: engine default)");
       app.add_flag("--no-contact-sheet", a->no_sheet, "skip contact_sheet.png");
       app.add_flag("--no-mp4", a->no_mp4, "skip sequence.mp4 even when ffmpeg is installed");
-      a->camera.add_to(app);
+      add_camera_flags(app, a->camera);
       app.footer(std::string("Scenes: ") + builtin_scene_help());
       return [a] { return run(*a); };
     });

@@ -16,7 +16,4 @@ using CommandSetup = std::function<std::function<int()>(CLI::App& app)>;
 bool register_command(const std::string& parent, const std::string& name,
                       const std::string& description, CommandSetup setup);
 
-// True when stderr is a terminal and CI is not set: progress output is shown only then.
-bool show_progress();
-
 }  // namespace frameless::cli

@@ -1,134 +1,25 @@
+// Flags of the shared options: see common_options.h.
 #include "tools/common_options.h"
-
-#include <cstdio>
-#include <cstdlib>
-#include <thread>
-
-#include "core/scene_io.h"
 
 namespace frameless::cli {
 
-void CameraFlags::add_to(CLI::App& app) {
-  app.add_option("--eye", eye, "camera position x,y,z")->delimiter(',')->expected(3);
-  app.add_option("--look", look, "look-at point x,y,z")->delimiter(',')->expected(3);
-  app.add_option("--up", up, "up vector x,y,z")->delimiter(',')->expected(3);
-  app.add_option("--fov", fov, "vertical field of view in degrees (0, 180)");
+void add_camera_flags(CLI::App& app, CameraOptions& camera) {
+  app.add_option("--eye", camera.eye, "camera position x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--look", camera.look, "look-at point x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--up", camera.up, "up vector x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--fov", camera.fov, "vertical field of view in degrees (0, 180)");
 }
 
-bool CameraFlags::apply(Camera& camera, std::string& error) const {
-  Camera c = camera;
-  if (eye.size() == 3) c.eye = Vec3(eye[0], eye[1], eye[2]);
-  if (look.size() == 3) c.look = Vec3(look[0], look[1], look[2]);
-  if (up.size() == 3) c.up = Vec3(up[0], up[1], up[2]);
-  if (fov) c.fov_deg = *fov;
-  if (!camera_is_valid(c)) {
-    error = "camera flags: invalid camera (need finite values, eye != look, up not parallel to "
-            "the view direction, 0 < fov < 180)";
-    return false;
-  }
-  camera = c;
-  return true;
-}
-
-void ShadowFlags::add_to(CLI::App& app) {
-  app.add_option("--shadows", mode,
+void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
+  app.add_option("--shadows", shadows.mode,
                  "shadows of lights with a radius: soft (single-sample, default), hard, or area "
                  "(reference: --shadow-samples rays per light)");
-  app.add_option("--shadow-samples", samples, "rays per light for --shadows area (1..4096)");
-  app.add_flag("--transparent-shadows", transparent,
+  app.add_option("--shadow-samples", shadows.samples, "rays per light for --shadows area (1..4096)");
+  app.add_flag("--transparent-shadows", shadows.transparent,
                "dielectrics attenuate shadow rays (k_t and absorption) instead of blocking them");
-  app.add_option("--accel", accel,
+  app.add_option("--accel", shadows.accel,
                  "acceleration structure: bvh (default), grid (Parker's hybrid grid) or auto "
                  "(whichever does less work on a trial of the scene's rays)");
-}
-
-bool ShadowFlags::apply(Scene& scene, std::string& error) const {
-  ShadowMode m = scene.settings.shadows;
-  if (mode == "soft") m = ShadowMode::kSoft;
-  else if (mode == "hard") m = ShadowMode::kHard;
-  else if (mode == "area") m = ShadowMode::kArea;
-  else if (!mode.empty()) {
-    error = "--shadows: expected soft, hard or area, got '" + mode + "'";
-    return false;
-  }
-  int n = scene.settings.shadow_samples;
-  if (samples) {
-    if (*samples < 1 || *samples > 4096) {
-      error = "--shadow-samples: must be 1..4096, got " + std::to_string(*samples);
-      return false;
-    }
-    n = *samples;
-  }
-  set_shadow_settings(scene, m, n, transparent || scene.settings.transparent_shadows);
-  if (!accel.empty()) {
-    AccelKind kind;
-    if (!parse_accel_kind(accel, kind)) {
-      error = "--accel: expected bvh, grid or auto, got '" + accel + "'";
-      return false;
-    }
-    set_accel(scene, kind);
-    const AccelStats& st = scene.accel.stats();
-    if (st.trial)  // auto reports what it chose and why
-      std::fprintf(stderr,
-                   "frameless: --accel auto chose %s (weighted work on %zu trial rays: bvh %.0f, "
-                   "grid %.0f)\n",
-                   accel_kind_name(st.structure), st.trial_rays, st.bvh_cost, st.grid_cost);
-  }
-  return true;
-}
-
-bool parse_size(const std::string& text, int& width, int& height, std::string& error) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-    error = "--size: expected WxH (e.g. 640x480), got '" + text + "'";
-    return false;
-  }
-  if (w < 1 || h < 1 || w > 16384 || h > 16384) {
-    error = "--size: " + text + " is out of range (each side 1..16384)";
-    return false;
-  }
-  width = w, height = h;
-  return true;
-}
-
-int hardware_threads() {
-  const unsigned n = std::thread::hardware_concurrency();
-  return n ? int(n) : 1;
-}
-
-bool valid_threads(int threads, std::string& error) {
-  if (threads >= 0 && threads <= 1024) return true;
-  error = "--threads: must be 0 (all cores) to 1024, got " + std::to_string(threads);
-  return false;
-}
-
-std::unique_ptr<Scene> load_scene_checked(const std::string& spec, const ShadowFlags* shadows,
-                                          std::string& error) {
-  auto result = load_scene(spec);
-  if (!result.ok()) {
-    error = result.error().message;
-    return nullptr;
-  }
-  if (shadows && !shadows->apply(*result.value(), error)) return nullptr;
-  return std::move(result.value());
-}
-
-std::unique_ptr<Scene> load_scene_or_report(const std::string& spec, const ShadowFlags* shadows) {
-  std::string error;
-  std::unique_ptr<Scene> scene = load_scene_checked(spec, shadows, error);
-  if (!scene) report_error(error);
-  return scene;
-}
-
-bool quiet_rank() {
-  const char* r = std::getenv("OMPI_COMM_WORLD_RANK");
-  return r && *r && std::atoi(r) != 0;
-}
-
-int report_error(const std::string& message) {
-  if (!quiet_rank()) std::fprintf(stderr, "frameless: %s\n", message.c_str());
-  return 2;
 }
 
 }  // namespace frameless::cli

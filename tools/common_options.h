@@ -1,58 +1,27 @@
-// Options shared by several commands (scene, size, camera flags, threads); main thread only.
+// Flags of the options shared by several commands (camera, shadows); main thread only. The
+// options themselves, the size and thread checks and scene loading live in src/bench.
 #pragma once
-#include <memory>
-#include <optional>
-#include <string>
-#include <vector>
-
 #include <CLI/CLI.hpp>
 
-#include "core/camera.h"
-#include "core/scene.h"
+#include "bench/common_options.h"
 
 namespace frameless::cli {
 
-// --eye/--look/--up x,y,z and --fov DEG; unset flags keep the scene's camera.
-struct CameraFlags {
-  std::vector<float> eye, look, up;
-  std::optional<float> fov;
-  void add_to(CLI::App& app);
-  // Applies the given flags to `camera`; false with a one-line message when invalid.
-  bool apply(Camera& camera, std::string& error) const;
-};
+using bench::CameraOptions;
+using bench::hardware_threads;
+using bench::load_scene_checked;
+using bench::load_scene_or_report;
+using bench::parse_size;
+using bench::quiet_rank;
+using bench::report_error;
+using bench::ShadowOptions;
+using bench::show_progress;
+using bench::valid_threads;
 
-// --shadows soft|hard|area, --shadow-samples N, --transparent-shadows; unset flags keep the
-// scene's settings.
-struct ShadowFlags {
-  std::string mode;
-  std::optional<int> samples;
-  bool transparent = false;
-  std::string accel;  // --accel bvh|grid|auto (empty: the scene's setting)
-  void add_to(CLI::App& app);
-  // Applies the flags to a loaded scene; false with a one-line message when invalid.
-  bool apply(Scene& scene, std::string& error) const;
-};
+// --eye/--look/--up x,y,z and --fov DEG into `camera`.
+void add_camera_flags(CLI::App& app, CameraOptions& camera);
 
-// Parses "WxH" (1..16384 each); false with a one-line message otherwise.
-bool parse_size(const std::string& text, int& width, int& height, std::string& error);
-
-// Number of hardware threads (at least 1).
-int hardware_threads();
-// Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
-bool valid_threads(int threads, std::string& error);
-
-// Loads a scene spec (see load_scene), applies the shadow flags when given, and prints
-// "frameless: <error>" on failure.
-std::unique_ptr<Scene> load_scene_or_report(const std::string& spec,
-                                            const ShadowFlags* shadows = nullptr);
-
-// "frameless: MESSAGE" on stderr; returns 2 (silent on cluster ranks other than 0: every rank
-// parses the same command line, and one line is enough).
-int report_error(const std::string& message);
-// Loads like load_scene_or_report but hands the one-line error back instead of printing it.
-std::unique_ptr<Scene> load_scene_checked(const std::string& spec, const ShadowFlags* shadows,
-                                          std::string& error);
-// Whether this process is a cluster client (a rank other than 0 under mpirun).
-bool quiet_rank();
+// --shadows, --shadow-samples, --transparent-shadows and --accel into `shadows`.
+void add_shadow_flags(CLI::App& app, ShadowOptions& shadows);
 
 }  // namespace frameless::cli

@@ -1,8 +1,5 @@
 // Entry point of the `frameless` command line: builds the subcommand tree from the registry.
-#include <unistd.h>
-
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <vector>
 
@@ -27,11 +24,6 @@ bool register_command(const std::string& parent, const std::string& name,
                       const std::string& description, CommandSetup setup) {
   registry().push_back({parent, name, description, std::move(setup)});
   return true;
-}
-
-bool show_progress() {
-  const char* ci = std::getenv("CI");
-  return isatty(STDERR_FILENO) && !(ci && *ci);
 }
 
 }  // namespace frameless::cli

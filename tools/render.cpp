@@ -17,7 +17,7 @@ namespace frameless::cli {
 namespace {
 
 struct RenderArgs {
-  ShadowFlags shadows;
+  ShadowOptions shadows;
   std::string scene = "default";
   std::string size;
   int spp = 0;
@@ -27,7 +27,7 @@ struct RenderArgs {
   bool no_jitter = false;
   int threads = 0;
   double time = 0.0;
-  CameraFlags camera;
+  CameraOptions camera;
 };
 
 bool output_dir_ok(const std::string& path, std::string& error) {
@@ -107,7 +107,7 @@ const bool registered = register_command(
       auto a = std::make_shared<RenderArgs>();
       app.add_option("scene", a->scene,
                      "built-in name, .json scene or .obj/.ply/.gltf/.glb model (default: default)");
-      a->shadows.add_to(app);
+      add_shadow_flags(app, a->shadows);
       app.add_option("--size", a->size, "image size WxH (default: the scene's)");
       app.add_option("--spp", a->spp, "samples per pixel (default: the scene's)");
       app.add_option("--out", a->out, "output EXR file")->capture_default_str();
@@ -118,7 +118,7 @@ const bool registered = register_command(
       app.add_flag("--no-jitter", a->no_jitter, "sample pixel centres only");
       app.add_option("--threads", a->threads, "render threads (default: all cores)");
       app.add_option("--time", a->time, "seconds: the instant moving objects are shown at (default 0)");
-      a->camera.add_to(app);
+      add_camera_flags(app, a->camera);
       app.footer(std::string("Scenes: ") + builtin_scene_help());
       return [a] { return run_render(*a); };
     });

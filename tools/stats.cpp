@@ -12,21 +12,23 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_report.h"
 #include "core/scene_io.h"
 #include "display/atomic_file.h"
 #include "display/png_io.h"
 #include "frameless/stats_run.h"
-#include "tools/bench_report.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 
 namespace frameless::cli {
 namespace {
 
+using bench::write_text_atomic;
+
 constexpr double kAlpha = 0.001;  // significance level of the verdicts
 
 struct StatsArgs {
-  ShadowFlags shadows;
+  ShadowOptions shadows;
   std::string scene = "default";
   std::string size = "320x240";
   int threads = 0;
@@ -42,7 +44,7 @@ struct StatsArgs {
   double refresh = 30.0;
   double coherence_seconds = 1.0;
   uint64_t seed = 1;
-  CameraFlags camera;
+  CameraOptions camera;
 };
 
 struct OrderResult {
@@ -329,7 +331,7 @@ const bool registered = register_command(
     [](CLI::App& app) {
       auto a = std::make_shared<StatsArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model (default: default)");
-      a->shadows.add_to(app);
+      add_shadow_flags(app, a->shadows);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads, "render threads (default: all cores)");
       app.add_option("--chunk", a->chunk, "pixels per chunk of the line")->capture_default_str();
@@ -349,7 +351,7 @@ const bool registered = register_command(
       app.add_option("--coherence-seconds", a->coherence_seconds,
                      "deterministic: wall-clock seconds per order for samples/s")->capture_default_str();
       app.add_option("--seed", a->seed, "partition and sample seed")->capture_default_str();
-      a->camera.add_to(app);
+      add_camera_flags(app, a->camera);
       app.footer(std::string("Scenes: ") + builtin_scene_help());
       return [a] { return run_stats(*a); };
     });

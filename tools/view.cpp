@@ -4,7 +4,7 @@
 
 #include "core/scene_io.h"
 #include "display/glfw_viewer.h"
-#include "tools/cluster_join.h"
+#include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 #include "tools/engine_flags.h"
@@ -13,8 +13,8 @@ namespace frameless::cli {
 namespace {
 
 struct ViewArgs {
-  ClusterFlags cluster;
-  ShadowFlags shadows;
+  ClusterJoinOptions cluster;
+  ShadowOptions shadows;
   std::string scene = "default";
   std::string size = "640x480";
   double refresh = 60.0;
@@ -23,7 +23,7 @@ struct ViewArgs {
   int frames = 0;
   bool help_overlay = false;
   std::string view = "shaded";
-  CameraFlags camera;
+  CameraOptions camera;
 };
 
 int run(const ViewArgs& a) {
@@ -46,7 +46,7 @@ int run(const ViewArgs& a) {
     return report_error("--view: unknown view '" + a.view +
                         "' (shaded, age, count, variance, epoch, levels)");
   ClusterJoin cluster;
-  cluster.flags = a.cluster;
+  cluster.requested = a.cluster;
   if (!cluster.start(error)) return report_error(error);
   std::string load_error;
   std::unique_ptr<Scene> scene = load_scene_checked(a.scene, &a.shadows, load_error);
@@ -81,8 +81,8 @@ const bool registered = register_command(
       auto a = std::make_shared<ViewArgs>();
       app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
           ->capture_default_str();
-      a->shadows.add_to(app);
-      a->cluster.add_to(app);
+      add_shadow_flags(app, a->shadows);
+      add_cluster_flags(app, a->cluster);
       app.add_option("--size", a->size, "window size WxH")->capture_default_str();
       app.add_option("--refresh", a->refresh, "display refresh rate, 1..240 Hz")->capture_default_str();
       a->engine.add_to(app);
@@ -100,7 +100,7 @@ const bool registered = register_command(
                      "view shown first (V cycles): shaded, age, count, variance, epoch, or levels "
                      "(reflection/refraction levels per pixel: 0 dark blue .. 25+ red)")
           ->capture_default_str();
-      a->camera.add_to(app);
+      add_camera_flags(app, a->camera);
       app.footer(std::string("Exit status 3: no display (use `frameless capture`). Scenes: ") +
                  builtin_scene_help());
       return [a] { return run(*a); };

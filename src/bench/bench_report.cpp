@@ -1,5 +1,5 @@
 // Shared helpers of the benchmarks: descriptions, atomic JSON/CSV, gnuplot, memory and CPU probes.
-#include "tools/bench_report.h"
+#include "bench/bench_report.h"
 
 #include "frameless/cpu_clock.h"
 #include "frameless/tile_render.h"
@@ -18,17 +18,16 @@
 #include <sstream>
 #include <thread>
 
+#include "bench/common_options.h"
 #include "display/atomic_file.h"
 #include "display/manifest.h"
 #include "frameless/reference_cache.h"
-#include "tools/command_registry.h"
-#include "tools/common_options.h"
 
 #ifndef FRAMELESS_VERSION
 #define FRAMELESS_VERSION "unknown"
 #endif
 
-namespace frameless::cli {
+namespace frameless::bench {
 namespace {
 
 // First line of `cmd`'s output, or "" (used for git; its errors go to /dev/null).
@@ -277,4 +276,4 @@ std::vector<float> render_one_thread(const Scene& s, int w, int h, int spp, doub
   return std::move(img.rgb);
 }
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -11,7 +11,7 @@
 #include "display/display_thread.h"
 #include "frameless/engine_config.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 // One mode to run: a label, the engine settings and the display settings.
 struct LiveMode {
@@ -58,4 +58,4 @@ LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule
 double time_average(const std::vector<TickRecord>& ticks, double t0, double t1,
                     double TickRecord::*field);
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

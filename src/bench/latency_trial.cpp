@@ -1,16 +1,16 @@
 // Camera-change latency: see latency_trial.h.
-#include "tools/latency_trial.h"
+#include "bench/latency_trial.h"
 
 #include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
 
+#include "bench/bench_report.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"
-#include "tools/bench_report.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 LatencyTrial latency_from(const std::vector<std::pair<double, double>>& series, double t0) {
   LatencyTrial t;
@@ -67,4 +67,4 @@ LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, con
   return t;
 }
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -1,5 +1,5 @@
 // Live Engine + DisplayThread runs scored against reference images at every display tick.
-#include "tools/bench_live.h"
+#include "bench/bench_live.h"
 
 #include <chrono>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "frameless/engine.h"
 #include "frameless/image_error.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule& s) {
   if (s.poses.empty() || s.references.size() != s.poses.size())
@@ -85,4 +85,4 @@ double time_average(const std::vector<TickRecord>& ticks, double t0, double t1,
   return weight > 0 ? sum / weight : std::nan("");
 }
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -4,25 +4,22 @@
 #include <memory>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
 #include "cluster/cluster.h"
 #include "frameless/engine_config.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
-// The cluster's command-line options (used only under mpirun).
-struct ClusterFlags {
+// The cluster's command-line options (used only under mpirun; tools/cluster_flags.h names them).
+struct ClusterJoinOptions {
   std::string wire = "exact";
   double batch_ms = 4.0;
   int prefetch = 0;
-  void add_to(CLI::App& app);
 };
 
 struct ClusterJoin {
   std::unique_ptr<cluster::Session> session;  // null: a single process (no mpirun, or -np 1)
-  ClusterFlags flags;                         // set before join()
-  cluster::ClusterOptions options;            // from the flags, by join()
+  ClusterJoinOptions requested;               // set before join()
+  cluster::ClusterOptions options;            // from `requested`, by join()
 
   // Starts MPI when launched by mpirun with 2+ ranks; false (error set) when it cannot.
   bool start(std::string& error);
@@ -33,4 +30,4 @@ struct ClusterJoin {
   bool master() const { return session && session->master(); }
 };
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -14,7 +14,7 @@
 
 #include "core/scene.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 struct EmbreeHit {
   float t = kInfinity;
@@ -226,4 +226,4 @@ class EmbreeBench {
   std::atomic<long long> bytes_{0};
 };
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -8,7 +8,7 @@
 #include "core/scene.h"
 #include "frameless/engine_config.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 // CPU model, hardware threads, memory, kernel and the load average when the benchmark started
 // (a shared machine's load explains much of the run-to-run spread).
@@ -46,7 +46,7 @@ bool plot_png(const std::string& dir, const std::string& name, int width, int he
               const std::string& body, std::string& error, bool* png_written = nullptr);
 bool gnuplot_found();
 
-// Progress line on stderr ("bench NAME: what") only when cli::show_progress().
+// Progress line on stderr ("bench NAME: what") only when show_progress().
 void bench_progress(const std::string& bench, const std::string& what);
 
 // Resident set size and its peak (VmRSS, VmHWM from /proc/self/status), bytes; 0 if unknown.
@@ -67,4 +67,4 @@ double median(std::vector<double> values);
 double fit_slope(const std::vector<double>& x, const std::vector<double>& y,
                  double* intercept = nullptr, double* r2 = nullptr);
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

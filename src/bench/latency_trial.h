@@ -9,7 +9,7 @@
 #include "core/scene.h"
 #include "frameless/engine_config.h"
 
-namespace frameless::cli {
+namespace frameless::bench {
 
 struct LatencyTrial {
   double p50 = 0, p95 = 0, p100 = 0;  // ms from the change to 50/95/100 % coverage (NaN: not reached)
@@ -25,4 +25,4 @@ LatencyTrial latency_from(const std::vector<std::pair<double, double>>& series, 
 LatencyTrial measure_latency(const Scene& scene, const EngineConfig& config, const Camera& camera,
                              double refresh_hz, double max_seconds = 15.0);
 
-}  // namespace frameless::cli
+}  // namespace frameless::bench

@@ -1,0 +1,236 @@
+// `frameless bench engine`: samples/s in frameless and conventional mode, display-thread CPU cost
+// at 60 Hz for 1280x720, and camera-change latency against the ideal; prints text or JSON.
+#include "bench/bench_engine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_report.h"
+#include "bench/common_options.h"
+#include "bench/latency_trial.h"
+#include "display/display_thread.h"
+#include "frameless/cpu_clock.h"
+#include "frameless/engine.h"
+
+namespace frameless::bench {
+namespace {
+
+void note(const char* what) {
+  if (show_progress()) std::fprintf(stderr, "bench engine: %s...\n", what);
+}
+
+struct Throughput {
+  double per_s = 0;      // samples per wall second
+  double per_cpu_s = 0;  // samples per CPU second of the whole process (render + display threads)
+};
+
+// Samples/s after a short warm-up, with a display thread at 60 Hz in both modes (the same load
+// the viewer adds). Conventional mode is measured over whole frames: samples cost differs across
+// the image, and a window ending mid-frame would count a biased part of it.
+Throughput throughput(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+  Engine e(scene, c, camera);
+  DisplayConfig dc;
+  dc.refresh_hz = 60;
+  DisplayThread d(e, dc);
+  e.start();
+  d.start();
+  sleep_s(0.3);
+  // Waits `at_least` seconds, then in conventional mode until the next frame completes.
+  auto wait = [&](double at_least) {
+    sleep_s(at_least);
+    if (c.mode != RenderMode::conventional) return;
+    const uint64_t f0 = e.stats().frames_completed;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (e.stats().frames_completed == f0 && std::chrono::steady_clock::now() < give_up)
+      sleep_s(0.0005);
+  };
+  wait(0.0);
+  const EngineStats a = e.stats();
+  const double c0 = process_cpu_seconds();
+  wait(seconds);
+  const EngineStats b = e.stats();
+  const double c1 = process_cpu_seconds();
+  d.stop();
+  e.stop();
+  if (e.error()) throw std::runtime_error(*e.error());
+  if (d.error()) throw std::runtime_error(*d.error());
+  return {double(b.samples - a.samples) / (b.seconds - a.seconds),
+          double(b.samples - a.samples) / std::max(1e-9, c1 - c0)};
+}
+
+struct DisplayCost {
+  double cpu_fraction = 0;       // display-thread CPU time / wall time
+  double updates_per_s = 0;      // pixel updates it blended per second
+  double ns_per_update = 0;      // its CPU time per blended update
+  double consumer_fraction = 0;  // CPU of a consumer taking an image per tick (acquire_latest)
+};
+
+// Display-thread CPU time as a fraction of one core while the engine renders; then, separately
+// (so it does not take CPU from the render threads during the first measurement), the CPU of a
+// consumer that takes every new image as the viewer's presentation thread does.
+DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+  c.width = 1280;
+  c.height = 720;
+  Engine e(scene, c, camera);
+  DisplayConfig dc;
+  dc.refresh_hz = 60;
+  DisplayThread d(e, dc);
+  e.start();
+  d.start();
+  sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
+  const DisplayStats s0 = d.stats();
+  sleep_s(seconds);
+  const DisplayStats s1 = d.stats();
+  double consumer_cpu = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto end = t0 + std::chrono::duration<double>(std::max(0.5, seconds / 2));
+  while (std::chrono::steady_clock::now() < end) {
+    const double c0 = thread_cpu_seconds();
+    d.acquire_latest();
+    consumer_cpu += thread_cpu_seconds() - c0;
+    sleep_s(1.0 / 120.0);  // polls at twice the display rate, so it takes every image
+  }
+  const double consumer_wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.stop();
+  e.stop();
+  // Between tick ends, so the window holds exactly the ticks whose CPU time it counts (a window
+  // between stats() calls could count a tick that began before it: a fraction above one).
+  const double wall = std::max(1e-9, s1.tick_end_seconds - s0.tick_end_seconds);
+  const double updates = double(s1.pixels_updated - s0.pixels_updated);
+  DisplayCost r;
+  r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;
+  r.updates_per_s = updates / wall;
+  r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
+  r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
+  return r;
+}
+
+}  // namespace
+
+int run_engine(const EngineBenchOptions& a) {
+  std::string error;
+  int width = 0, height = 0;
+  if (!parse_size(a.size, width, height, error)) return report_error(error);
+  if (!valid_threads(a.threads, error)) return report_error(error);
+  if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
+  if (!scene) return 2;
+  EngineConfig c;
+  c.width = width;
+  c.height = height;
+  c.threads = a.threads > 0 ? a.threads : hardware_threads();
+  c.track_variance = false;
+  const Camera camera = scene->camera;
+
+  try {
+    // Interleaved runs (frameless, conventional, frameless, ...): a load change on a shared
+    // machine then hits both modes alike; each figure is the median of its runs, and the
+    // overhead is the median of the per-pair ratios.
+    EngineConfig cc = c;
+    cc.mode = RenderMode::conventional;
+    // The same runs with camera rays traced one by one: the gain of ray packets (same images).
+    EngineConfig c1 = c, cc1 = cc;
+    c1.packets = cc1.packets = false;
+    std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus, ups, nspu, cons;
+    std::vector<double> fl1_s, conv1_s, gain_fl, gain_conv;
+    for (int k = 0; k < std::max(1, a.repeats); ++k) {
+      note("frameless throughput");
+      const Throughput f = throughput(*scene, c, camera, a.seconds);
+      note("conventional throughput");
+      const Throughput v = throughput(*scene, cc, camera, a.seconds);
+      note("frameless throughput, single rays");
+      const Throughput f1 = throughput(*scene, c1, camera, a.seconds);
+      note("conventional throughput, single rays");
+      const Throughput v1 = throughput(*scene, cc1, camera, a.seconds);
+      fl1_s.push_back(f1.per_s);
+      conv1_s.push_back(v1.per_s);
+      gain_fl.push_back(f.per_cpu_s / f1.per_cpu_s);
+      gain_conv.push_back(v.per_cpu_s / v1.per_cpu_s);
+      fl_s.push_back(f.per_s);
+      conv_s.push_back(v.per_s);
+      fl_cpu.push_back(f.per_cpu_s);
+      conv_cpu.push_back(v.per_cpu_s);
+      ratio.push_back(f.per_s / v.per_s);
+      ratio_cpu.push_back(f.per_cpu_s / v.per_cpu_s);
+      note("display CPU at 60 Hz, 1280x720");
+      const DisplayCost dcost = display_cpu(*scene, c, camera, a.seconds);
+      cpus.push_back(dcost.cpu_fraction);
+      ups.push_back(dcost.updates_per_s);
+      nspu.push_back(dcost.ns_per_update);
+      cons.push_back(dcost.consumer_fraction);
+    }
+    const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
+    const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
+    std::vector<double> p50, p95, p100, ideal;
+    for (int k = 0; k < std::max(1, a.repeats); ++k) {
+      note("camera-change latency");
+      // Display at 240 Hz so coverage is sampled finely; a trial that never reaches a level
+      // (render thread starved) reports -1.
+      const LatencyTrial l = measure_latency(*scene, c, camera, 240.0, 10.0);
+      auto ms = [](double v) { return std::isnan(v) ? -1.0 : v; };
+      p50.push_back(ms(l.p50));
+      p95.push_back(ms(l.p95));
+      p100.push_back(ms(l.p100));
+      ideal.push_back(l.ideal);
+    }
+    nlohmann::json j;
+    j["scene"] = a.scene;
+    j["width"] = width;
+    j["height"] = height;
+    j["threads"] = c.threads;
+    j["hardware_threads"] = hardware_threads();
+    j["seconds_per_measurement"] = a.seconds;
+    j["frameless_samples_per_s"] = fl;
+    j["conventional_samples_per_s"] = conv;
+    j["frameless_overhead"] = overhead;
+    j["frameless_samples_per_cpu_s"] = median(fl_cpu);
+    j["conventional_samples_per_cpu_s"] = median(conv_cpu);
+    j["frameless_overhead_per_cpu_s"] = overhead_cpu;
+    j["frameless_single_ray_samples_per_s"] = median(fl1_s);
+    j["conventional_single_ray_samples_per_s"] = median(conv1_s);
+    j["packet_gain_frameless_per_cpu_s"] = median(gain_fl);
+    j["packet_gain_conventional_per_cpu_s"] = median(gain_conv);
+    j["throughput_repeats"] = fl_s.size();
+    j["throughput_with_display_hz"] = 60;
+    j["display_cpu_fraction"] = cpu;
+    j["display_size"] = "1280x720";
+    j["display_hz"] = 60;
+    j["display_updates_per_s"] = median(ups);
+    j["display_ns_per_update"] = median(nspu);
+    j["consumer_cpu_fraction"] = median(cons);
+    j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
+    j["latency_ideal_ms"] = median(ideal);
+    j["latency_repeats"] = p50.size();
+    j["update_percent"] = c.update_percent;
+    if (a.json) {
+      std::printf("%s\n", j.dump(2).c_str());
+    } else {
+      std::printf("scene %s %dx%d, %d threads\n", a.scene.c_str(), width, height, c.threads);
+      std::printf("frameless    %.3f M samples/s\nconventional %.3f M samples/s (frameless overhead %.1f%%)\n",
+                  fl * 1e-6, conv * 1e-6, 100.0 * overhead);
+      std::printf("per CPU second: frameless %.3f M, conventional %.3f M (overhead %.1f%%)\n",
+                  median(fl_cpu) * 1e-6, median(conv_cpu) * 1e-6, 100.0 * overhead_cpu);
+      std::printf("single rays: frameless %.3f M samples/s, conventional %.3f M; packets gain "
+                  "x%.2f frameless, x%.2f conventional (per CPU second)\n",
+                  median(fl1_s) * 1e-6, median(conv1_s) * 1e-6, median(gain_fl), median(gain_conv));
+      std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core (%.2f M updates/s, %.1f ns each)\n",
+                  100.0 * cpu, median(ups) * 1e-6, median(nspu));
+      std::printf("consumer taking each image (acquire_latest): %.2f%% of one core\n", 100.0 * median(cons));
+      std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
+                  median(p50), median(p95), median(p100), median(ideal));
+    }
+  } catch (const std::exception& ex) {
+    return report_error(ex.what());
+  }
+  return 0;
+}
+
+}  // namespace frameless::bench

@@ -1,0 +1,25 @@
+// `frameless bench engine`: frameless vs conventional samples/s, display CPU, camera-change
+// latency. Its flags are in tools/bench_engine.cpp.
+#pragma once
+#include <string>
+
+#include "bench/common_options.h"
+
+namespace frameless::bench {
+
+// The defaults are the command's.
+struct EngineBenchOptions {
+  ShadowOptions shadows;
+  std::string scene = "default";
+  std::string size = "640x360";
+  int threads = 0;
+  double seconds = 2.0;
+  int repeats = 3;
+  bool json = false;
+};
+
+// Runs the benchmark as the command does (output on stdout and, where it has one, in its
+// output directory); returns the exit code (2 after a one-line error on stderr).
+int run_engine(const EngineBenchOptions& options);
+
+}  // namespace frameless::bench

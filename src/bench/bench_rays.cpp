@@ -1,0 +1,357 @@
+// `frameless bench rays`: primary- and shadow-ray throughput of the BVH, single-thread and with N
+// threads, side by side with Embree (rtcIntersect1 and 8-wide packets) when it is available.
+#include "bench/bench_rays.h"
+
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench/bench_report.h"
+#include "bench/common_options.h"
+#include "core/instance.h"
+#include "core/scene.h"
+#include "frameless/cpu_clock.h"
+
+#if defined(FRAMELESS_HAVE_EMBREE)
+#include "bench/bench_rays_embree.h"
+#endif
+
+namespace frameless::bench {
+namespace {
+
+void set_ftz_daz() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+// Runs body(begin, end) over [0, n) in chunks on `threads` threads; returns seconds. One thread
+// runs on the caller and is timed by its CPU time, which other processes on a shared machine do
+// not inflate; several threads are timed by the wall clock.
+double run_chunks(int threads, size_t n, const std::function<void(size_t, size_t)>& body) {
+  constexpr size_t kChunk = 1024;
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    set_ftz_daz();
+    for (;;) {
+      const size_t b = next.fetch_add(kChunk);
+      if (b >= n) return;
+      body(b, std::min(n, b + kChunk));
+    }
+  };
+  if (threads <= 1) {
+    const double start = thread_cpu_seconds();
+    worker();
+    return thread_cpu_seconds() - start;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  {
+    std::vector<std::thread> pool;
+    for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+    for (std::thread& t : pool) t.join();
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+struct Timing {
+  double best = 1e30;
+  void add(double s) { best = std::min(best, s); }
+  double mrays(size_t rays) const { return double(rays) / best * 1e-6; }
+};
+
+}  // namespace
+
+int run_rays(const RaysOptions& a) {
+  int width = 0, height = 0;
+  std::string error;
+  if (!parse_size(a.size, width, height, error)) return report_error(error);
+  if (!valid_threads(a.threads, error)) return report_error(error);
+  if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
+  const int threads = a.threads > 0 ? a.threads : hardware_threads();
+  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
+  if (!scene) return 2;
+  if (!a.camera.apply(scene->camera, error)) return report_error(error);
+  const bool progress = show_progress() && !a.json;
+  set_ftz_daz();
+
+  // Serial build happened at load; rebuild with the parallel executor for its time too.
+  const AccelStats serial_stats = scene->accel.stats();
+  AccelConfig parallel_config;
+  parallel_config.parallel_for = [threads](size_t n, const std::function<void(size_t)>& body) {
+    std::vector<std::thread> pool;
+    std::atomic<size_t> next{0};
+    for (int t = 0; t < std::min<int>(threads, int(n)); ++t)
+      pool.emplace_back([&] {
+        for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+      });
+    for (std::thread& t : pool) t.join();
+  };
+  scene->accel.build(scene->geometry, parallel_config);
+  if (a.opaque) scene->accel.set_alpha_test({});  // as Embree sees the scene: no cut-outs
+  const AccelStats stats = scene->accel.stats();
+  const Geometry& geom = scene->geometry;
+
+  // Primary rays through pixel centres in 4x2 blocks, block rows in scanline order: every
+  // packet (ours and Embree's) is a compact block of neighbours, as in the engine.
+  const CameraBasis basis = make_camera_basis(scene->camera, width, height);
+  std::vector<Ray> primary;
+  primary.reserve(size_t(width) * height);
+  for (int by = 0; by < height; by += 2)
+    for (int bx = 0; bx < width; bx += 4)
+      for (int y = by; y < std::min(height, by + 2); ++y)
+        for (int x = bx; x < std::min(width, bx + 4); ++x)
+          primary.push_back(camera_ray(basis, float(x) + 0.5f, float(y) + 0.5f));
+  std::vector<Hit> hits(primary.size());
+  const Accel& accel = scene->accel;
+  accel.intersect(primary[0], hits[0]);  // warm up
+  run_chunks(1, primary.size(), [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) hits[i] = Hit{}, accel.intersect(primary[i], hits[i]);
+  });
+
+  // Shadow rays from every primary hit to every light (a light above the scene if it has none).
+  std::vector<Vec3> lights;
+  for (const Light& l : scene->lights) lights.push_back(l.position);
+  if (lights.empty()) {
+    Vec3 lo, hi;
+    scene_bounds(geom, lo, hi);
+    lights.push_back(0.5f * (lo + hi) + Vec3(0.0f, 2.0f * (hi.y - lo.y) + 1.0f, 0.0f));
+  }
+  std::vector<Ray> shadow;
+  size_t primary_hits = 0;
+  for (size_t i = 0; i < primary.size(); ++i) {
+    if (!hits[i].valid()) continue;
+    ++primary_hits;
+    const Vec3 p = primary[i].org + hits[i].t * primary[i].dir;
+    for (const Vec3& l : lights) {
+      Ray r;
+      r.org = p;
+      r.dir = l - p;
+      // Relative offsets keep the ray off its own surface at any scene scale (bench only).
+      r.tmin = 1e-4f;
+      r.tmax = 1.0f - 1e-4f;
+      shadow.push_back(r);
+    }
+  }
+  std::vector<uint8_t> occluded(shadow.size());
+  std::vector<Hit> packet_hits(primary.size());
+  std::vector<uint8_t> packet_occluded(shadow.size());
+  // Packets of kPacketSize consecutive rays (a chunk is a multiple of it).
+  auto trace_packets = [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; i += kPacketSize)
+      accel.intersect_packet(primary.data() + i, int(std::min<size_t>(kPacketSize, e - i)),
+                             packet_hits.data() + i);
+  };
+  auto occlude_packets = [&](size_t b, size_t e) {
+    bool occ[kPacketSize];
+    for (size_t i = b; i < e; i += kPacketSize) {
+      const int m = int(std::min<size_t>(kPacketSize, e - i));
+      accel.occluded_packet(shadow.data() + i, m, occ);
+      for (int k = 0; k < m; ++k) packet_occluded[i + k] = occ[k];
+    }
+  };
+
+  Timing p1, pn, s1, sn, pk1, pkn, sk1, skn;
+#if defined(FRAMELESS_HAVE_EMBREE)
+  std::unique_ptr<EmbreeBench> embree_ptr;
+  if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads);
+  std::vector<EmbreeHit> ehits(primary.size());
+  std::vector<uint8_t> eocc(shadow.size());
+  Timing ep1, epn, e81, e8n, es1, esn, es81, es8n;
+#endif
+  for (int rep = 0; rep < a.reps; ++rep) {
+    if (progress) std::fprintf(stderr, "\rrepetition %d/%d", rep + 1, a.reps);
+    // Interleaved: each repetition measures every variant once, so load changes hit all alike.
+    for (int nt : {1, threads}) {
+      Timing& tp = nt == 1 ? p1 : pn;
+      Timing& ts = nt == 1 ? s1 : sn;
+      tp.add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) {
+          Hit h;
+          accel.intersect(primary[i], h);
+          hits[i] = h;
+        }
+      }));
+      ts.add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) occluded[i] = accel.occluded(shadow[i]);
+      }));
+      (nt == 1 ? pk1 : pkn).add(run_chunks(nt, primary.size(), trace_packets));
+      (nt == 1 ? sk1 : skn).add(run_chunks(nt, shadow.size(), occlude_packets));
+#if defined(FRAMELESS_HAVE_EMBREE)
+      if (embree_ptr) {
+        const EmbreeBench& embree = *embree_ptr;
+        (nt == 1 ? ep1 : epn).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
+          embree.intersect1(primary.data() + b, ehits.data() + b, e - b);
+        }));
+        (nt == 1 ? e81 : e8n).add(run_chunks(nt, primary.size(), [&](size_t b, size_t e) {
+          embree.intersect8(primary.data() + b, ehits.data() + b, e - b);
+        }));
+        (nt == 1 ? es1 : esn).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
+          embree.occluded1(shadow.data() + b, eocc.data() + b, e - b);
+        }));
+        (nt == 1 ? es81 : es8n).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
+          embree.occluded8(shadow.data() + b, eocc.data() + b, e - b);
+        }));
+      }
+#endif
+      if (threads == 1) break;
+    }
+  }
+  if (progress) std::fprintf(stderr, "\r%*s\r", 30, "");
+  if (threads == 1) pn = p1, sn = s1, pkn = pk1, skn = sk1;
+  size_t shadow_occluded = 0;
+  for (uint8_t o : occluded) shadow_occluded += o;
+  // Packets must return exactly the single rays' answers (hit, distance bits, primitive).
+  size_t packet_same = 0, packet_occ_same = 0;
+  for (size_t i = 0; i < primary.size(); ++i)
+    packet_same += hits[i].valid() == packet_hits[i].valid() &&
+                   (!hits[i].valid() ||
+                    (hits[i].prim == packet_hits[i].prim && hits[i].t == packet_hits[i].t &&
+                     hits[i].u == packet_hits[i].u && hits[i].v == packet_hits[i].v));
+  for (size_t i = 0; i < shadow.size(); ++i) packet_occ_same += occluded[i] == packet_occluded[i];
+
+  const size_t prims = geom.num_primitives();
+  nlohmann::ordered_json j;
+  j["scene"] = a.scene;
+  j["prims"] = prims;
+  j["triangles"] = geom.num_triangles();
+  j["spheres"] = geom.num_spheres();
+  j["instances"] = geom.instances.size();
+  j["represented_triangles"] = represented_triangles(geom);
+  j["width"] = width;
+  j["height"] = height;
+  j["build_ms"] = serial_stats.build_ms;
+  j["build_ms_parallel"] = stats.build_ms;
+  j["bvh_bytes"] = stats.bytes;
+  j["geometry_bytes"] = stats.geometry_bytes;
+  j["bytes_per_prim"] = prims ? double(stats.bytes + stats.geometry_bytes) / double(prims) : 0.0;
+  j["nodes"] = stats.nodes;
+  j["depth"] = stats.depth;
+  j["leaves"] = stats.leaves;
+  j["threads"] = threads;
+  j["primary_rays"] = primary.size();
+  j["shadow_rays"] = shadow.size();
+  j["primary_hit_fraction"] = double(primary_hits) / double(primary.size());
+  j["shadow_occluded_fraction"] =
+      shadow.empty() ? 0.0 : double(shadow_occluded) / double(shadow.size());
+  j["primary_mrays_per_s"] = pn.mrays(primary.size());
+  j["shadow_mrays_per_s"] = sn.mrays(shadow.size());
+  j["primary_mrays_per_s_1t"] = p1.mrays(primary.size());
+  j["shadow_mrays_per_s_1t"] = s1.mrays(shadow.size());
+  j["primary_packet_mrays_per_s"] = pkn.mrays(primary.size());
+  j["shadow_packet_mrays_per_s"] = skn.mrays(shadow.size());
+  j["primary_packet_mrays_per_s_1t"] = pk1.mrays(primary.size());
+  j["shadow_packet_mrays_per_s_1t"] = sk1.mrays(shadow.size());
+  j["packet_size"] = kPacketSize;
+  j["packet_primary_mismatches"] = primary.size() - packet_same;
+  j["packet_shadow_mismatches"] = shadow.size() - packet_occ_same;
+  j["reps"] = a.reps;
+  j["clock_1t"] = "thread CPU time";
+  j["clock_nt"] = "wall time";
+#if defined(FRAMELESS_HAVE_EMBREE)
+  nlohmann::ordered_json e;
+  if (embree_ptr) {
+    const EmbreeBench& embree = *embree_ptr;
+    if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81;
+    // Agreement on hit/miss and the hit primitive (edges may legitimately differ).
+    size_t same_hit = 0, same_occ = 0;
+    for (size_t i = 0; i < primary.size(); ++i)
+      same_hit += (hits[i].valid() == ehits[i].valid()) &&
+                  (!hits[i].valid() || embree.prim_id(ehits[i]) == hits[i].prim);
+    for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
+    e["version"] = embree.version();
+    e["build_ms"] = embree.build_ms();
+    // After the ray timings: while its one-thread device lives, TBB limits the whole process.
+    e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3));
+    e["bytes"] = embree.bytes();
+    e["primary_mrays_per_s_1t"] = ep1.mrays(primary.size());
+    e["primary_packet8_mrays_per_s_1t"] = e81.mrays(primary.size());
+    e["shadow_mrays_per_s_1t"] = es1.mrays(shadow.size());
+    e["shadow_packet8_mrays_per_s_1t"] = es81.mrays(shadow.size());
+    e["primary_mrays_per_s"] = epn.mrays(primary.size());
+    e["primary_packet8_mrays_per_s"] = e8n.mrays(primary.size());
+    e["shadow_mrays_per_s"] = esn.mrays(shadow.size());
+    e["shadow_packet8_mrays_per_s"] = es8n.mrays(shadow.size());
+    // Ratios ours / Embree (above 1: we are faster).
+    e["ratio_primary_vs_intersect1_1t"] = p1.mrays(1) / ep1.mrays(1);
+    e["ratio_primary_vs_packet8_1t"] = p1.mrays(1) / e81.mrays(1);
+    e["ratio_shadow_vs_occluded1_1t"] = s1.mrays(1) / es1.mrays(1);
+    e["ratio_shadow_vs_packet8_1t"] = s1.mrays(1) / es81.mrays(1);
+    e["ratio_primary_vs_intersect1"] = pn.mrays(1) / epn.mrays(1);
+    e["ratio_primary_vs_packet8"] = pn.mrays(1) / e8n.mrays(1);
+    e["ratio_shadow_vs_occluded1"] = sn.mrays(1) / esn.mrays(1);
+    e["ratio_shadow_vs_packet8"] = sn.mrays(1) / es8n.mrays(1);
+    e["ratio_primary_packet_vs_packet8_1t"] = pk1.mrays(1) / e81.mrays(1);
+    e["ratio_primary_packet_vs_intersect1_1t"] = pk1.mrays(1) / ep1.mrays(1);
+    e["ratio_shadow_packet_vs_occluded1_1t"] = sk1.mrays(1) / es1.mrays(1);
+    e["ratio_shadow_packet_vs_packet8_1t"] = sk1.mrays(1) / es81.mrays(1);
+    e["ratio_primary_packet_vs_packet8"] = pkn.mrays(1) / e8n.mrays(1);
+    e["ratio_primary_packet_vs_intersect1"] = pkn.mrays(1) / epn.mrays(1);
+    e["ratio_shadow_packet_vs_occluded1"] = skn.mrays(1) / esn.mrays(1);
+    e["ratio_shadow_packet_vs_packet8"] = skn.mrays(1) / es8n.mrays(1);
+    e["primary_agreement"] = double(same_hit) / double(primary.size());
+    e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
+    j["embree"] = e;
+  }
+#endif
+  if (a.json) {
+    std::printf("%s\n", j.dump().c_str());
+    return 0;
+  }
+  std::printf("scene %s: %zu primitives (%u triangles, %u spheres), %dx%d, %d threads\n",
+              a.scene.c_str(), prims, geom.num_triangles(), geom.num_spheres(), width, height,
+              threads);
+  if (!geom.instances.empty())
+    std::printf("instances: %zu of %zu shared meshes, %llu triangles represented\n",
+                geom.instances.size(), geom.instance_meshes.size(),
+                (unsigned long long)represented_triangles(geom));
+  std::printf(
+      "BVH: build %.1f ms serial, %.1f ms parallel; %zu nodes, depth %d; "
+      "%.1f bytes/prim (BVH %zu + geometry %zu)\n",
+      serial_stats.build_ms, stats.build_ms, stats.nodes, stats.depth,
+      j["bytes_per_prim"].get<double>(), stats.bytes, stats.geometry_bytes);
+  std::printf("%-28s %12s %12s\n", "Mrays/s (best, 1T: CPU time)", "1 thread",
+              (std::to_string(threads) + " threads").c_str());
+  auto row = [](const char* name, double one, double many) {
+    std::printf("%-28s %12.2f %12.2f\n", name, one, many);
+  };
+  row("primary", p1.mrays(primary.size()), pn.mrays(primary.size()));
+  row("shadow", s1.mrays(shadow.size()), sn.mrays(shadow.size()));
+  row("primary, packets of 8", pk1.mrays(primary.size()), pkn.mrays(primary.size()));
+  row("shadow, packets of 8", sk1.mrays(shadow.size()), skn.mrays(shadow.size()));
+#if defined(FRAMELESS_HAVE_EMBREE)
+  if (embree_ptr) {
+    const EmbreeBench& embree = *embree_ptr;
+    row("embree primary intersect1", ep1.mrays(primary.size()), epn.mrays(primary.size()));
+    row("embree primary intersect8", e81.mrays(primary.size()), e8n.mrays(primary.size()));
+    row("embree shadow occluded1", es1.mrays(shadow.size()), esn.mrays(shadow.size()));
+    row("embree shadow occluded8", es81.mrays(shadow.size()), es8n.mrays(shadow.size()));
+    row("ratio primary / intersect1", p1.mrays(1) / ep1.mrays(1), pn.mrays(1) / epn.mrays(1));
+    row("ratio primary / intersect8", p1.mrays(1) / e81.mrays(1), pn.mrays(1) / e8n.mrays(1));
+    row("ratio shadow / occluded1", s1.mrays(1) / es1.mrays(1), sn.mrays(1) / esn.mrays(1));
+    row("ratio shadow / occluded8", s1.mrays(1) / es81.mrays(1), sn.mrays(1) / es8n.mrays(1));
+    row("ratio packets / intersect8", pk1.mrays(1) / e81.mrays(1), pkn.mrays(1) / e8n.mrays(1));
+    row("ratio sh. packets / occl.1", sk1.mrays(1) / es1.mrays(1), skn.mrays(1) / esn.mrays(1));
+    row("ratio sh. packets / occl.8", sk1.mrays(1) / es81.mrays(1), skn.mrays(1) / es8n.mrays(1));
+    std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s, build %.1f ms on 1 "
+                "thread, %.1f ms on %d)\n",
+                e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
+                embree.version().c_str(), e["build_ms_1t"].get<double>(), embree.build_ms(), threads);
+  }
+#endif
+  std::printf("packets vs single rays: %zu of %zu primary and %zu of %zu shadow results differ\n",
+              primary.size() - packet_same, primary.size(), shadow.size() - packet_occ_same,
+              shadow.size());
+  return 0;
+}
+
+}  // namespace frameless::bench
