@@ -15,6 +15,10 @@ void EngineFlags::add_to(CLI::App& app) {
   app.add_option("--alpha", alpha, "decay: displayed <- displayed (1-a) + sample a")
       ->capture_default_str();
   app.add_flag("--time-decay", time_decay, "alpha from the time since a pixel's last blend");
+  app.add_flag("--reproject", reproject,
+               "on a camera change, move what is shown to the new view (the render cache)");
+  app.add_flag("--temporal", temporal,
+               "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they differ");
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
   app.add_flag("--no-packets", no_packets,
                "trace camera rays one by one instead of as 8-ray packets (same image, slower)");
@@ -42,6 +46,8 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   e.adaptive.enabled = adaptive;  // converged pixels skipped (docs/adaptive.md)
   blend.alpha = alpha;
   blend.time_decay = time_decay;
+  blend.reproject = reproject;
+  blend.temporal = temporal;
   return true;
 }
 

@@ -17,6 +17,8 @@ struct EngineFlags {
   std::string mode = "frameless";
   float alpha = 0.5f;
   bool time_decay = false;
+  bool reproject = false;
+  bool temporal = false;
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;

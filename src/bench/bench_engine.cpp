@@ -3,6 +3,7 @@
 #include "bench/bench_engine.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "bench/bench_report.h"
 #include "bench/common_options.h"
 #include "bench/latency_trial.h"
+#include "display/camera_path.h"
 #include "display/display_thread.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
@@ -70,24 +72,43 @@ struct DisplayCost {
   double updates_per_s = 0;      // pixel updates it blended per second
   double ns_per_update = 0;      // its CPU time per blended update
   double consumer_fraction = 0;  // CPU of a consumer taking an image per tick (acquire_latest)
+  double reprojections_per_s = 0;
+  double reproject_fraction = 0;  // the part of cpu_fraction spent reprojecting
 };
 
 // Display-thread CPU time as a fraction of one core while the engine renders; then, separately
 // (so it does not take CPU from the render threads during the first measurement), the CPU of a
 // consumer that takes every new image as the viewer's presentation thread does.
-DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds) {
+// `moving`: a camera orbiting 15 degrees a second, published at 30 Hz, during the measurement;
+// `reproject`: the display moves its image at every camera change (the render cache).
+DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds,
+                        bool moving = false, bool reproject = false) {
   c.width = 1280;
   c.height = 720;
   Engine e(scene, c, camera);
   DisplayConfig dc;
   dc.refresh_hz = 60;
+  dc.blend.reproject = reproject;
   DisplayThread d(e, dc);
   e.start();
   d.start();
+  std::atomic<bool> stop{false};
+  std::thread mover;
+  if (moving)
+    mover = std::thread([&] {
+      const CameraPath path = make_shorthand_path(camera, {15.0 * (seconds + 1.0), 1.0}, seconds + 1.0);
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 1; !stop.load(); ++k) {
+        std::this_thread::sleep_until(t0 + std::chrono::microseconds(k * 33333));
+        e.publish_camera(evaluate_camera_path(path, k / 30.0, camera));
+      }
+    });
   sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
   const DisplayStats s0 = d.stats();
   sleep_s(seconds);
   const DisplayStats s1 = d.stats();
+  stop = true;
+  if (mover.joinable()) mover.join();
   double consumer_cpu = 0;
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + std::chrono::duration<double>(std::max(0.5, seconds / 2));
@@ -107,6 +128,8 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   const double updates = double(s1.pixels_updated - s0.pixels_updated);
   DisplayCost r;
   r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;
+  r.reprojections_per_s = double(s1.reproject.reprojections - s0.reproject.reprojections) / wall;
+  r.reproject_fraction = (s1.reproject.cpu_seconds - s0.reproject.cpu_seconds) / wall;
   r.updates_per_s = updates / wall;
   r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
   r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
@@ -140,6 +163,7 @@ int run_engine(const EngineBenchOptions& a) {
     EngineConfig c1 = c, cc1 = cc;
     c1.packets = cc1.packets = false;
     std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus, ups, nspu, cons;
+    std::vector<double> cpu_moving, cpu_reproject, cpu_reproject_part, reproj_rate;
     std::vector<double> fl1_s, conv1_s, gain_fl, gain_conv;
     for (int k = 0; k < std::max(1, a.repeats); ++k) {
       note("frameless throughput");
@@ -166,6 +190,13 @@ int run_engine(const EngineBenchOptions& a) {
       ups.push_back(dcost.updates_per_s);
       nspu.push_back(dcost.ns_per_update);
       cons.push_back(dcost.consumer_fraction);
+      note("display CPU at 60 Hz, 1280x720, camera moving at 30 Hz, with and without reprojection");
+      const DisplayCost moving = display_cpu(*scene, c, camera, a.seconds, true, false);
+      const DisplayCost cache = display_cpu(*scene, c, camera, a.seconds, true, true);
+      cpu_moving.push_back(moving.cpu_fraction);
+      cpu_reproject.push_back(cache.cpu_fraction);
+      cpu_reproject_part.push_back(cache.reproject_fraction);
+      reproj_rate.push_back(cache.reprojections_per_s);
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -206,6 +237,10 @@ int run_engine(const EngineBenchOptions& a) {
     j["display_updates_per_s"] = median(ups);
     j["display_ns_per_update"] = median(nspu);
     j["consumer_cpu_fraction"] = median(cons);
+    j["display_cpu_fraction_moving"] = median(cpu_moving);
+    j["display_cpu_fraction_moving_reproject"] = median(cpu_reproject);
+    j["display_reproject_cpu_fraction"] = median(cpu_reproject_part);
+    j["display_reprojections_per_s"] = median(reproj_rate);
     j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
     j["latency_ideal_ms"] = median(ideal);
     j["latency_repeats"] = p50.size();
@@ -224,6 +259,10 @@ int run_engine(const EngineBenchOptions& a) {
       std::printf("display thread at 60 Hz, 1280x720: %.2f%% of one core (%.2f M updates/s, %.1f ns each)\n",
                   100.0 * cpu, median(ups) * 1e-6, median(nspu));
       std::printf("consumer taking each image (acquire_latest): %.2f%% of one core\n", 100.0 * median(cons));
+      std::printf("display thread, camera moving at 30 Hz: %.2f%% of one core; with reprojection %.2f%% "
+                  "(%.2f%% reprojecting, %.1f reprojections/s)\n",
+                  100.0 * median(cpu_moving), 100.0 * median(cpu_reproject),
+                  100.0 * median(cpu_reproject_part), median(reproj_rate));
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

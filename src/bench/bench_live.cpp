@@ -63,6 +63,8 @@ LiveResult run_live(const Scene& scene, const LiveMode& mode, const LiveSchedule
       t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s.duration)));
   display.stop();
   const EngineStats s1 = engine.stats();
+  result.reproject = display.stats().reproject;
+  result.display_cpu_seconds = display.stats().cpu_seconds;
   engine.stop();
   if (engine.error()) throw std::runtime_error(*engine.error());
   if (display.error()) throw std::runtime_error(*display.error());

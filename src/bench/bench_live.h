@@ -47,6 +47,8 @@ struct LiveResult {
   double samples_per_s = 0;  // engine samples / engine seconds
   double seconds = 0;        // wall time of the run
   uint64_t dropped = 0;
+  ReprojectTotals reproject;         // what the display's reprojection did
+  double display_cpu_seconds = 0;    // display-thread CPU (scoring every image included)
 };
 
 // Runs `mode` for schedule.duration seconds; throws std::runtime_error on an engine or display

@@ -18,6 +18,9 @@ struct BlendConfig {
   // agrees with what the pixel shows (within its noise), a long history (alpha / 2: sharper);
   // where it disagrees (motion), a short one (up to 1: fresh).
   bool temporal = false;
+  // Frameless mode: when the camera changes, move what is shown to where it now belongs (the
+  // render cache; display/reproject.h) instead of showing the old view until re-rendered.
+  bool reproject = false;
 };
 
 // displayed (1 - alpha) + sample alpha, per channel.

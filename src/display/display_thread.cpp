@@ -266,7 +266,7 @@ namespace {
 // Blends one tick's collected updates into the back buffer, slot run by slot run (display thread).
 struct TickSink final : UpdateSink {
   TickSink(DisplayThread::Impl& display, const DisplayConfig& config)
-      : d(display), rule(config.blend), reproject(config.reproject) {}
+      : d(display), rule(config.blend), reproject(config.blend.reproject) {}
 
   DisplayThread::Impl& d;
   const BlendRule rule;

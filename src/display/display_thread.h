@@ -18,10 +18,7 @@ namespace frameless {
 
 struct DisplayConfig {
   double refresh_hz = 60.0;  // ticks per second, 1..240 (also the virtual tick in deterministic mode)
-  BlendConfig blend;         // alpha, time-based decay, convergence
-  // Frameless mode: when the camera changes, move what is shown to where it now belongs (the
-  // render cache; display/reproject.h) instead of showing the old view until re-rendered.
-  bool reproject = false;
+  BlendConfig blend;         // alpha, time-based decay, convergence, temporal weights, reprojection
 };
 
 // What reprojection did since the display started.

@@ -15,7 +15,12 @@
 #include "display/camera_path.h"
 #include "display/exr_io.h"
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)  // clang's spelling (the test stage builds with clang)
+#define FRAMELESS_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(FRAMELESS_TEST_ASAN)
 constexpr const char* kChildLeakCheck = "ASAN_OPTIONS=detect_leaks=0 ";
 #else
 constexpr const char* kChildLeakCheck = "";
