@@ -178,7 +178,7 @@ struct DisplayRun {
     c.samples_per_tick = samples_per_tick;
     engine = std::make_unique<Engine>(*scene, c, camera ? *camera : scene->camera);
     DisplayConfig d;
-    d.reproject = reproject;
+    d.blend.reproject = reproject;
     display = std::make_unique<DisplayThread>(*engine, d);
   }
   void steps(int n) {
