@@ -16,6 +16,7 @@
 #include "core/scene_io.h"
 #include "display/atomic_file.h"
 #include "display/png_io.h"
+#include "frameless/stats_closed_loop.h"
 #include "frameless/stats_run.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
@@ -283,6 +284,16 @@ int run_stats(const StatsArgs& a) {
   } catch (const std::exception& e) {
     return report_error(e.what());
   }
+  // The closed-loop order (render threads serving a display's asks): its starvation bound.
+  ClosedLoopStats closed;
+  try {
+    if (show_progress()) std::fprintf(stderr, "closed loop: recording\n");
+    StatsRunConfig cl = rc;
+    cl.order = *order;
+    closed = closed_loop_stats(*scene, camera, cl);
+  } catch (const std::exception& e) {
+    return report_error(e.what());
+  }
 
   nlohmann::json j;
   j["config"] = {{"scene", a.scene},         {"width", width},
@@ -297,6 +308,14 @@ int run_stats(const StatsArgs& a) {
                  {"clock", deterministic ? "virtual (per-thread samples_per_s are virtual; samples_per_s is "
                                            "wall clock with the ray tracer)" : "wall"}};
   for (const OrderResult& r : results) j["orders"][to_string(r.order)] = to_json(r, a.chunk);
+  nlohmann::json cl_threads = nlohmann::json::array();
+  for (const ClosedLoopStats::Thread& t : closed.threads)
+    cl_threads.push_back({{"pixels", t.pixels}, {"updates", t.updates}, {"worst_gap_updates", t.worst_gap},
+                          {"bound_updates", t.bound}, {"never_updated", t.never_updated},
+                          {"asked_share", t.asked_share}});
+  j["closed_loop"] = {{"asked_fraction", closed.asked_fraction}, {"sweeps", closed.sweeps},
+                      {"bound", "every pixel within 2 n + 2 runs of its thread's updates (n: its list)"},
+                      {"bound_holds", closed.bound_holds}, {"threads", cl_threads}};
   if (!write_text_atomic(a.out + "/stats.json", j.dump(2) + "\n", error)) return report_error(error);
 
   std::vector<const OrderResult*> all;
@@ -322,7 +341,23 @@ int run_stats(const StatsArgs& a) {
       std::fprintf(stderr, "frameless: %s: %llu updates did not fit the log (analysed the first ones)\n",
                    to_string(r.order), (unsigned long long)r.overflow);
   }
+  size_t worst = 0, bound = 0;
+  double share = 0;
+  for (const ClosedLoopStats::Thread& t : closed.threads) {
+    if (t.bound && double(t.worst_gap) / double(t.bound) >= (bound ? double(worst) / double(bound) : 0.0)) {
+      worst = t.worst_gap;
+      bound = t.bound;
+    }
+    share += t.asked_share / double(closed.threads.size());
+  }
+  std::printf("closed-loop order (top half asked every tick): %.0f%% of updates on the asked half, worst "
+              "revisit %zu updates, bound %zu: %s\n",
+              100.0 * share, worst, bound, closed.bound_holds ? "holds" : "VIOLATED");
   std::printf("wrote %s/stats.json and figures (times in sweeps; p-values at alpha %g)\n", a.out.c_str(), kAlpha);
+  if (!closed.bound_holds) {
+    std::fprintf(stderr, "frameless: closed-loop order: a pixel waited longer than its starvation bound\n");
+    return 1;
+  }
   return 0;
 }
 

@@ -139,14 +139,18 @@ int run_motion(const MotionOptions& options) {
     for (double al : a.alphas) add_frameless(al, a.percent);
     for (double p : a.percents) add_frameless(a.alpha, p);
     // The render cache and AFR's temporal weights on the default setting.
-    for (int variant = 0; variant < 3; ++variant) {
+    static const char* const kVariants[] = {"reproject", "reproject+temporal", "temporal",
+                                            "closed-loop", "reproject+temporal+closed-loop"};
+    for (const char* variant : kVariants) {
+      const std::string v = variant;
       RunRow r;
       r.mode = base;
-      r.mode.kind = variant == 0 ? "reproject" : variant == 1 ? "reproject+temporal" : "temporal";
+      r.mode.kind = v;
       r.mode.name = "frameless " + r.mode.kind + " a=" + csv_number(a.alpha) + " p=" + csv_number(a.percent) + "%";
       r.mode.display.blend.alpha = float(a.alpha);
-      r.mode.display.blend.reproject = variant < 2;
-      r.mode.display.blend.temporal = variant > 0;
+      r.mode.display.blend.reproject = v.find("reproject") != std::string::npos;
+      r.mode.display.blend.temporal = v.find("temporal") != std::string::npos;
+      r.mode.engine.closed_loop = v.find("closed-loop") != std::string::npos;
       r.mode.engine.update_percent = a.percent;
       r.alpha = a.alpha;
       r.percent = a.percent;
@@ -256,7 +260,7 @@ int run_motion(const MotionOptions& options) {
                           {"conventional", value(conv, &RunRow::avg_rmse)},
                           {"adaptive", value(adap, &RunRow::avg_rmse)}};
     for (const RunRow& r : rows)  // the render cache and temporal weights, default setting
-      if (r.mode.kind == "reproject" || r.mode.kind == "temporal" || r.mode.kind == "reproject+temporal") {
+      if (r.mode.kind != "frameless" && r.mode.kind != "conventional" && r.mode.kind != "adaptive") {
         j["time_avg_rmse"][r.mode.kind] = r.avg_rmse;
         j["reprojection"][r.mode.kind] = {{"reprojections", r.result.reproject.reprojections},
                                           {"display_cpu_s", r.result.display_cpu_seconds},

@@ -74,9 +74,6 @@ struct PixelImage {
   LayoutPtr layout;
   std::vector<DisplayPixel> px;
   std::vector<uint8_t> levels;  // by slot like px, apart because DisplayPixel fills 32 bytes
-  // Reprojection only (else empty): each shown pixel's primary hit and its marks, by slot.
-  std::vector<ScenePoint> points;
-  std::vector<uint8_t> marks;
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
 
@@ -89,19 +86,10 @@ struct PixelImage {
     layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
     levels.assign(pixels(), 0);
-    points.clear();
-    marks.clear();
   }
-  bool tracks_points() const { return !points.empty(); }
-  void reset_points() {
-    points.clear();
-    marks.clear();
-  }
-  void track_points() {  // reprojection turned on: nothing shown has a point yet
-    points.assign(pixels(), ScenePoint{});
-    marks.assign(pixels(), kMarkNone);
-  }
-  SlotImage slots() {
+  // With the display's points and marks (which live outside the triple buffer: only the display
+  // thread reads them), for reprojection.
+  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks) {
     return {width, height, layout ? layout->pixel_of->data() : nullptr,
             layout ? layout->slot_of.data() : nullptr, px.data(), points.data(), levels.data(), marks.data()};
   }
@@ -161,16 +149,10 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   const size_t n = src.pixels();
   dst.px.resize(n);
   dst.levels.resize(n);
-  dst.points.resize(src.points.size());
-  dst.marks.resize(src.marks.size());
   for (size_t s = 0; s < n; ++s) {
     const uint32_t from = src.slot_of(dst.pixel_of(s));
     dst.px[s] = src.px[from];
     dst.levels[s] = src.levels[from];
-    if (src.tracks_points()) {
-      dst.points[s] = src.points[from];
-      dst.marks[s] = src.marks[from];
-    }
   }
 }
 
@@ -201,6 +183,10 @@ struct DisplayThread::Impl {
   CameraBasis reproject_basis;
   Reprojector reprojector;
   PixelImage reprojected;
+  // Each shown pixel's primary hit and its marks, by pixel (the display thread's alone, so outside
+  // the triple buffer), and the reprojection's output for them.
+  std::vector<ScenePoint> points, points_out;
+  std::vector<uint8_t> marks, marks_out;
   ReprojectTotals reproject_totals;
 
   // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
@@ -274,6 +260,8 @@ struct TickSink final : UpdateSink {
   PixelImage* image = nullptr;
   const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
   const PixelPoint* points = nullptr;            // the engine's, by pixel (reprojection only)
+  WantedRuns* wanted = nullptr;                  // closed-loop sampling: where to ask (else null)
+  bool asked = false;                            // asked for something since the last publish
   std::vector<SlotRun>* dirty = nullptr;
   bool full = false;          // this tick changed (or cleared) the whole image
   bool conventional = false;
@@ -304,8 +292,24 @@ void TickSink::begin(const CollectResult& r) {
   dirty = &d.history.runs[d.tick_index % kHistory];
   dirty->clear();
   reproject = reproject && !conventional && r.points;
-  if (d.reproject(*image, reproject)) full = true;
+  wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
+  if (d.reproject(*image, reproject)) {
+    full = true;
+    if (wanted) {  // closed loop: what reprojection guessed is rendered first
+      const uint8_t* marks = d.marks.data();
+      for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)
+        if (marks[pixel] & kMarkGuess) wanted->want(image->slot_of(pixel));
+      wanted->publish();
+    }
+  }
+}
+
+// Closed loop: a sample far from what its pixel shows (beyond its noise, as temporal_alpha
+// judges) means the content moves there: ask for its run again soon.
+inline bool jumps(const DisplayPixel& m, const PixelSnapshot& u) {
+  if (m.epoch == 0) return false;
+  return temporal_alpha(1.0f, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u) >= 1.0f;
 }
 
 // `guess`: what the pixel shows was guessed by reprojection (a crack, a disocclusion, something
@@ -333,9 +337,10 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   float px, py, depth;
   const CameraBasis& b = d.reproject_basis;
   if (!project_point(b, point, px, py, depth)) return;
-  const size_t slot = image->slot_of(size_t(int(py)) * size_t(image->width) + size_t(int(px)));
-  uint8_t& mark = image->marks[slot];
-  const ScenePoint& shown = image->points[slot];
+  const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
+  const size_t slot = image->slot_of(pixel);
+  uint8_t& mark = d.marks[pixel];
+  const ScenePoint& shown = d.points[pixel];
   float sx, sy, shown_depth;
   const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
   if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
@@ -345,7 +350,7 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   m.rgb[0] = c.x;
   m.rgb[1] = c.y;
   m.rgb[2] = c.z;
-  image->points[slot] = point;
+  d.points[pixel] = point;
   mark = kMarkMoved;
   ++d.reproject_totals.redirected;
   mark_dirty(slot, 1);
@@ -367,17 +372,29 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
         redirect(u, point);
         continue;
       }
-      uint8_t& mark = image->marks[first + i];
+      uint8_t& mark = d.marks[pixel];
+      if (wanted && !(mark & kMarkGuess) && jumps(px[i], u)) {
+        wanted->want(first + i);
+        asked = true;
+      }
       show(px[i], u, mark & kMarkGuess);
-      image->points[first + i] = point;
+      d.points[pixel] = point;
       mark = kMarkNone;
     } else {
+      if (wanted && jumps(px[i], u)) {
+        wanted->want(first + i);
+        asked = true;
+      }
       show(px[i], u, false);
     }
     // Read after the state's seq: these levels are the shown update's or a newer one's.
     if (levels) lv[i] = levels[image->pixel_of(first + i)].load(std::memory_order_relaxed);
   }
   mark_dirty(first, count);
+  if (asked) {  // inside collect(): the asks stay valid (the layout is locked)
+    wanted->publish();
+    asked = false;
+  }
 }
 
 void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
@@ -459,23 +476,12 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.layout = src.layout;
     img.px = src.px;
     img.levels = src.levels;
-    img.points = src.points;
-    img.marks = src.marks;
     return false;
   }
-  if (img.points.size() != src.points.size()) {  // reprojection was just turned on or off
-    img.points = src.points;
-    img.marks = src.marks;
-  }
-  const bool points = src.tracks_points();
   for (uint64_t t = have; t < tick_index; ++t)
     for (const SlotRun& run : history.runs[t % kHistory]) {
       std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
       std::memcpy(&img.levels[run.first], &src.levels[run.first], run.count);
-      if (points) {
-        std::memcpy(&img.points[run.first], &src.points[run.first], run.count * sizeof(ScenePoint));
-        std::memcpy(&img.marks[run.first], &src.marks[run.first], run.count);
-      }
     }
   return false;
 }
@@ -483,12 +489,14 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
 bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled) {
   if (!enabled) {
-    if (img.tracks_points()) img.reset_points();
+    points.clear();
+    marks.clear();
     reproject_epoch = 0;
     return false;
   }
-  if (!img.tracks_points()) {  // just turned on, or cleared: nothing shown has a point yet
-    img.track_points();
+  if (points.size() != img.pixels()) {  // just turned on, or resized: nothing shown has a point yet
+    points.assign(img.pixels(), ScenePoint{});
+    marks.assign(img.pixels(), kMarkNone);
     reproject_epoch = 0;
   }
   uint32_t epoch = 0;
@@ -507,13 +515,14 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled) {
   const size_t n = img.pixels();
   out.px.resize(n);
   out.levels.resize(n);
-  out.points.resize(n);
-  out.marks.resize(n);
-  const ReprojectStats st = reprojector.run(before, reproject_basis, img.slots(), out.slots());
+  points_out.resize(n);
+  marks_out.resize(n);
+  const ReprojectStats st =
+      reprojector.run(before, reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out));
   std::swap(img.px, out.px);
   std::swap(img.levels, out.levels);
-  std::swap(img.points, out.points);
-  std::swap(img.marks, out.marks);
+  std::swap(points, points_out);
+  std::swap(marks, marks_out);
   recount_epochs(img);
   ReprojectTotals& t = reproject_totals;
   ++t.reprojections;

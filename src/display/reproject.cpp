@@ -12,20 +12,6 @@ constexpr float kFar = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
-bool project_point(const CameraBasis& b, const ScenePoint& point, float& px, float& py, float& depth) {
-  if (point.object == kPointNone) return false;
-  const bool sky = point.object == kPointSky;
-  const Vec3 d = sky ? point.p : point.p - b.eye;
-  const float z = glm::dot(d, b.w);
-  if (!(z > 0.0f)) return false;  // behind the eye (or NaN)
-  const float sx = glm::dot(d, b.u) / z, sy = glm::dot(d, b.v) / z;
-  // camera_ray inverted: sx = (2 px / W - 1) tan_half aspect, sy = (1 - 2 py / H) tan_half.
-  px = (sx / (b.tan_half * b.aspect) + 1.0f) * 0.5f * float(b.width);
-  py = (1.0f - sy / b.tan_half) * 0.5f * float(b.height);
-  depth = sky ? kFar : z;
-  return px >= 0.0f && px < float(b.width) && py >= 0.0f && py < float(b.height);
-}
-
 ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, int max_fill) {
   ReprojectStats stats;
@@ -36,20 +22,22 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   marks_.assign(n, kMarkMoved);
   // Forward splat: each slot's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays).
-  for (size_t s = 0; s < n; ++s) {
+  const Projector project_after(after), project_before(before);
+  // Pixels in raster order, points by pixel: the splat streams through its input and writes
+  // near where it reads (slots come in shuffled chunks: walking them misses the cache).
+  for (size_t p = 0; p < n; ++p) {
     float px, py, d, bx, by, bd;
-    const ScenePoint& point = from.points[s];
-    if (!project_point(after, point, px, py, d)) continue;
-    if (project_point(before, point, bx, by, bd)) {  // the pixel's centre moves as its point does
-      const uint32_t p = from.pixel(s);
-      px += float(p % uint32_t(w)) + 0.5f - bx;
-      py += float(p / uint32_t(w)) + 0.5f - by;
+    const ScenePoint& point = from.points[p];
+    if (!project_after(point, px, py, d)) continue;
+    if (project_before(point, bx, by, bd)) {  // the pixel's centre moves as its point does
+      px += float(p % size_t(w)) + 0.5f - bx;
+      py += float(p / size_t(w)) + 0.5f - by;
       if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
     }
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
     if (source_[t] == kNone || d < depth_[t]) {
       depth_[t] = d;
-      source_[t] = uint32_t(s);
+      source_[t] = uint32_t(p);
     }
   }
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
@@ -105,22 +93,25 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     source_[f.pixel] = f.source;
     depth_[f.pixel] = f.depth;
   }
-  // Gather into `to` slot by slot; each slot keeps its own seq (what the engine last published there).
-  for (size_t ts = 0; ts < n; ++ts) {
-    const uint32_t t = to.pixel(ts);
-    uint32_t s = source_[t];
+  // Gather into `to` pixel by pixel (points and marks stream); each slot keeps its own seq (what
+  // the engine last published there).
+  for (size_t t = 0; t < n; ++t) {
+    const uint32_t ts = to.slot(t);
+    uint32_t source = source_[t];
     uint8_t mark = marks_[t];
-    if (s == kNone) {  // nothing reached it: its old content, marked as a guess
-      s = uint32_t(ts);
+    if (source == kNone) {  // nothing reached it: its old content, marked as a guess
+      source = uint32_t(t);
       mark = kMarkDisoccluded;
     }
-    if (point_may_move(from.points[s].object)) mark |= kMarkStale;
+    const ScenePoint& point = from.points[source];
+    if (point_may_move(point.object)) mark |= kMarkStale;
+    const uint32_t s = from.slot(source);
     DisplayPixel p = from.px[s];
     p.seq = from.px[ts].seq;
     to.px[ts] = p;
-    to.points[ts] = from.points[s];
+    to.points[t] = point;
     to.levels[ts] = from.levels[s];
-    to.marks[ts] = mark;
+    to.marks[t] = mark;
     stats.moved += (mark & kMarkMoved) != 0;
     stats.filled += (mark & kMarkFilled) != 0;
     stats.disoccluded += (mark & kMarkDisoccluded) != 0;

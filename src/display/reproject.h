@@ -6,6 +6,7 @@
 // whole. Works in the display's slot order.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/camera.h"
@@ -14,9 +15,34 @@
 
 namespace frameless {
 
-// Where `point` appears in camera `to`: continuous pixel position and its depth along the view
-// axis (+infinity for the sky, whose position is a direction). False behind the eye or outside.
-bool project_point(const CameraBasis& to, const ScenePoint& point, float& px, float& py, float& depth);
+// camera_ray inverted, with its constants folded: for d = point - eye, z = w.d, the pixel
+// position is (cx + x.d / z, cy - y.d / z) (sx = (2 px / W - 1) tan_half aspect, sy = (1 - 2 py / H) tan_half).
+struct Projector {
+  explicit Projector(const CameraBasis& b)
+      : eye(b.eye), w(b.w), x(b.u * (0.5f * float(b.width) / (b.tan_half * b.aspect))),
+        y(b.v * (0.5f * float(b.height) / b.tan_half)), cx(0.5f * float(b.width)),
+        cy(0.5f * float(b.height)), width(float(b.width)), height(float(b.height)) {}
+  Vec3 eye, w, x, y;
+  float cx, cy, width, height;
+  // Where `point` appears: continuous pixel position and its depth along the view axis
+  // (+infinity for the sky, whose position is a direction). False behind the eye or outside.
+  bool operator()(const ScenePoint& point, float& px, float& py, float& depth) const {
+    if (point.object == kPointNone) return false;
+    const bool sky = point.object == kPointSky;
+    const Vec3 d = sky ? point.p : point.p - eye;
+    const float z = glm::dot(d, w);
+    if (!(z > 0.0f)) return false;  // behind the eye (or NaN)
+    const float inv = 1.0f / z;
+    px = cx + glm::dot(d, x) * inv;
+    py = cy - glm::dot(d, y) * inv;
+    depth = sky ? std::numeric_limits<float>::infinity() : z;
+    return px >= 0.0f && px < width && py >= 0.0f && py < height;
+  }
+};
+
+inline bool project_point(const CameraBasis& to, const ScenePoint& point, float& px, float& py, float& depth) {
+  return Projector(to)(point, px, py, depth);
+}
 
 struct ReprojectStats {
   size_t moved = 0;        // pixels that received a moved pixel
@@ -25,7 +51,8 @@ struct ReprojectStats {
   size_t stale = 0;        // pixels showing something that may move (dynamic objects, instances)
 };
 
-// The display image, by slot: slot s holds pixel pixel_of[s] (identity when null).
+// The display image: pixels and levels by slot (slot s holds pixel pixel_of[s], identity when
+// null), points and marks by pixel.
 struct SlotImage {
   int width = 0;
   int height = 0;
@@ -52,7 +79,7 @@ class Reprojector {
 
  private:
   std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far
-  std::vector<uint32_t> source_; // by pixel: the slot of `from` it shows (kNone: a hole)
+  std::vector<uint32_t> source_; // by pixel: the pixel of `from` it shows (kNone: a hole)
   struct Fill {
     uint32_t pixel, source;
     float depth;

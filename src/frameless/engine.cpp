@@ -85,8 +85,34 @@ void rebuild_layout(Engine::Impl& e, const EngineConfig& config) {
   else if (!e.display_order || *e.display_order != slot_pixel)
     e.display_order = std::make_shared<const std::vector<uint32_t>>(std::move(slot_pixel));
   for (auto& b : e.frames.buf) b.assign(n, PixelSnapshot{});
+  if (e.cfg.closed_loop && e.cfg.mode == RenderMode::frameless)
+    e.wanted.reset(n);
+  else
+    e.wanted.reset(0);
   e.sample_seed_base = mix64(e.scene.settings.seed ^ mix64(e.cfg.seed));
   e.generation.fetch_add(1, std::memory_order_release);
+}
+
+// Closed-loop sampling: the runs each render thread rendered out of walk order since the
+// cursor, from its ring; a display that fell a ring behind gets the thread's whole range.
+void collect_asked(Engine::Impl& e, UpdateCursor& cursor, UpdateSink& sink, int threads) {
+  for (int t = 0; t < threads; ++t) {
+    PriorityRing& ring = e.priority_rings[t];
+    const size_t first = e.thread_first_slot[size_t(t)], end = e.thread_first_slot[size_t(t) + 1];
+    uint64_t& seen = cursor.thread_asked[size_t(t)];
+    const uint64_t head = ring.head.load(std::memory_order_acquire);
+    if (head == seen) continue;
+    bool lapped = head < seen || head - seen > PriorityRing::kCapacity / 2;
+    for (uint64_t k = seen; !lapped && k < head; ++k) {
+      const size_t slot = ring.first_slot[k % PriorityRing::kCapacity].load(std::memory_order_relaxed);
+      if (slot < first || slot >= end) continue;  // never: a thread announces its own slots
+      sink.slots(slot, &e.states[slot], std::min<size_t>(kRunLength, end - slot));
+    }
+    // Entries read while the thread kept writing may have been overwritten: check it did not lap.
+    if (ring.head.load(std::memory_order_acquire) - seen > PriorityRing::kCapacity / 2) lapped = true;
+    if (lapped && end > first) sink.slots(first, &e.states[first], end - first);
+    seen = head;
+  }
 }
 
 }  // namespace
@@ -107,6 +133,7 @@ void Engine::start() {
     std::lock_guard<std::mutex> lock(e.layout_mutex);
     e.stop_flag.store(false, std::memory_order_relaxed);
     e.counters.reset(new ThreadCounters[size_t(e.threads)]);
+    e.priority_rings.reset(e.wanted.runs ? new PriorityRing[size_t(e.threads)] : nullptr);
     e.logs.assign(size_t(e.threads), UpdateLog{});
     if (e.cfg.update_log_capacity > 0)
       for (UpdateLog& l : e.logs) l.records.reserve(e.cfg.update_log_capacity);
@@ -384,6 +411,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.slot_pixel = e.display_order;
   r.levels = e.levels.get();
   r.points = e.points.get();
+  r.wanted = e.wanted.runs && e.priority_rings ? &e.wanted : nullptr;
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
   const int threads = e.threads;  // counters always have this many entries (see rebuild_layout)
@@ -400,6 +428,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
     cursor.width = r.width;
     cursor.height = r.height;
     cursor.thread_updates.assign(size_t(threads), 0);
+    cursor.thread_asked.assign(size_t(threads), 0);
   }
   sink.begin(r);
 
@@ -409,6 +438,9 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
       for (int t = 0; t < threads; ++t)
         cursor.thread_updates[size_t(t)] = e.counters[t].updates.load(std::memory_order_acquire);
       if (e.pixel_count) sink.slots(0, &e.states[0], e.pixel_count);
+      if (r.wanted)
+        for (int t = 0; t < threads; ++t)
+          cursor.thread_asked[size_t(t)] = e.priority_rings[t].head.load(std::memory_order_acquire);
       return r;
     }
     for (int t = 0; t < threads; ++t) {
@@ -426,6 +458,7 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
       if (head < len) sink.slots(first, &e.states[first], len - head);
       seen = now;
     }
+    if (r.wanted) collect_asked(e, cursor, sink, threads);
     return r;
   }
 

@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/instance_top.h"
 #include "core/scene.h"
+#include "frameless/closed_loop.h"
 #include "frameless/engine_config.h"
 #include "frameless/partition.h"
 #include "frameless/pixel_points.h"
@@ -48,6 +49,7 @@ struct UpdateCursor {
   uint64_t generation = ~uint64_t(0);    // engine layout generation it refers to
   uint64_t cleared = ~uint64_t(0);       // engine pixel-clear count it refers to
   std::vector<uint64_t> thread_updates;  // per render thread: visits already collected
+  std::vector<uint64_t> thread_asked;    // per render thread: asked-for runs already collected
   int width = 0;                         // image size it last saw
   int height = 0;
 };
@@ -68,6 +70,9 @@ struct CollectResult {
   // Primary hit of each pixel's newest update, by pixel, written like the levels (null before
   // the first layout): what reprojection moves (frameless/pixel_points.h).
   const PixelPoint* points = nullptr;
+  // Closed-loop sampling (EngineConfig::closed_loop, frameless mode; else null): the display asks
+  // for runs of slots here, from inside its sink callbacks (frameless/closed_loop.h).
+  WantedRuns* wanted = nullptr;
   uint32_t newest_epoch = 0; // newest published camera epoch
   uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
   uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()

@@ -66,6 +66,9 @@ struct EngineConfig {
   // Trace the camera rays of consecutive owned pixels as coherent packets (core/accel.h): same
   // images bit for bit, faster. Off: ray by ray (for comparison; custom shaders always are).
   bool packets = true;
+  // Closed-loop sampling (frameless/closed_loop.h): render threads interleave the runs of pixels
+  // the display asks for (reprojection's guesses, fast-changing colours) with their walk.
+  bool closed_loop = false;
   // Cluster (src/cluster): this process renders only threads [owned_first, owned_first +
   // owned_count) of the `threads`-thread partition; the other threads' pixels are rendered by
   // other processes and arrive through Engine::ingest() (frameless) or ingest_piece()

@@ -12,6 +12,7 @@
 
 #include "frameless/adaptive.h"
 #include "frameless/camera_channel.h"
+#include "frameless/closed_loop.h"
 #include "frameless/conventional_jobs.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
@@ -52,6 +53,11 @@ struct FramelessWorker {
   uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame serial `frame` was evaluated for
   uint32_t instances_epoch = 1;          // moved instances in frame.instances (1: as built)
   bool moving = false;
+  // Closed-loop sampling: the runs (list positions of their first pixel) asked for and not yet
+  // rendered, served front to back, and the generation of the display's asks last scanned.
+  std::vector<uint32_t> asked;
+  size_t asked_next = 0;
+  uint64_t asked_generation = 0;
 };
 
 // Conventional frames: render side writes `back`, publishes by exchanging it with `middle`;
@@ -137,6 +143,10 @@ struct Engine::Impl {
   size_t pixel_count = 0;
   int threads = 1;
   std::unique_ptr<ThreadCounters[]> counters;
+  // Closed-loop sampling (null/empty when off): the display's asks by run of slots, and each
+  // render thread's announcements of the runs it rendered out of walk order.
+  WantedRuns wanted;
+  std::unique_ptr<PriorityRing[]> priority_rings;
   std::vector<UpdateLog> logs;
   std::vector<FramelessWorker> workers;
   std::vector<TileJob> jobs;

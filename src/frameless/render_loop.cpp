@@ -211,6 +211,49 @@ void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
   epoch = ep;
 }
 
+// Closed-loop sampling: after the display asked for more runs, queue this thread's (their flags
+// are cleared as they are queued; the display may ask again later).
+void scan_asked(Engine::Impl& e, FramelessWorker& w) {
+  const uint64_t generation = e.wanted.generation.load(std::memory_order_acquire);
+  if (generation == w.asked_generation) return;
+  w.asked_generation = generation;
+  w.asked.erase(w.asked.begin(), w.asked.begin() + std::ptrdiff_t(w.asked_next));
+  w.asked_next = 0;
+  const size_t first = w.first_slot, end = first + w.pixels->size();
+  if (end == first) return;
+  for (size_t r = first / kRunLength; r <= (end - 1) / kRunLength; ++r) {
+    std::atomic<uint8_t>& f = e.wanted.flags[r];
+    if (!f.load(std::memory_order_relaxed)) continue;
+    f.store(0, std::memory_order_relaxed);
+    w.asked.push_back(uint32_t(std::max(r * kRunLength, first) - first));
+  }
+}
+
+// Renders the next asked-for run (up to `budget` updates) as one batch and announces it to the
+// display; returns the updates rendered. The walk's position and counters do not move.
+uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, double t, double dt,
+                     uint64_t budget) {
+  const std::vector<uint32_t>& list = *w.pixels;
+  const size_t pos0 = w.asked[w.asked_next++];
+  const size_t len = std::min<size_t>({kRunLength, list.size() - pos0, size_t(budget)});
+  PacketBatch b;
+  for (size_t k = 0; k < len; ++k) {
+    b.idx[b.n] = list[pos0 + k];
+    b.state[b.n] = &e.states[w.first_slot + pos0 + k];
+    b.t[b.n] = t + dt * double(k);
+    b.frame[b.n] = nullptr;
+    ++b.n;
+  }
+  trace_batch(e, b, w.basis, w.moving ? &w.frame : nullptr, &w.world);
+  for (int k = 0; k < b.n; ++k) {
+    finish_update(e, b.idx[k], *b.state[k], w.epoch, float(b.t[k]), ctr, nullptr,
+                  w.moving ? &w.frame : nullptr, b.r[k]);
+    log_update(e, w, b.idx[k], float(b.t[k]));
+  }
+  e.priority_rings[w.index].push(uint32_t(w.first_slot + pos0));  // after the publishes
+  return len;
+}
+
 // The frameless walk over a thread's pixel list: up to PacketBatch::kMax consecutive visits are
 // gathered in order, traced together, then published in order, adaptive skips included, so every
 // counter and pixel sees the sequence of a one-by-one walk. A batch ends before a camera or world
@@ -222,6 +265,7 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
   const size_t n = list.size();
   if (n == 0) return;
   ThreadCounters& ctr = e.counters[w.index];
+  const bool closed_loop = e.wanted.runs != 0;
   PacketBatch b;
   constexpr int kMaxEntries = 64;
   int8_t entries[kMaxEntries];  // visit order: a batch slot, or -1 for an adaptive skip
@@ -247,6 +291,7 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
       w.countdown = w.interval;
       refresh_camera(e, w.epoch, w.basis);
       refresh_world(e, w, t_begin + dt * double(i));
+      if (closed_loop) scan_asked(e, w);
     }
     const size_t pos = w.pos;
     const uint32_t idx = list[pos];
@@ -264,7 +309,12 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
       entries[m++] = int8_t(b.n++);
       ++i;
     }
-    if (wrapped || b.n == PacketBatch::kMax || m == kMaxEntries) flush();
+    if (wrapped || b.n == PacketBatch::kMax || m == kMaxEntries) {
+      flush();
+      // One asked-for run after each batch of the walk: the walk keeps at least half the updates.
+      if (closed_loop && w.asked_next < w.asked.size() && i < count)
+        i += serve_asked(e, w, ctr, t_begin + dt * double(i), dt, count - i);
+    }
   }
   flush();
 }

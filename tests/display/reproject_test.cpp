@@ -164,7 +164,8 @@ struct DisplayRun {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Engine> engine;
   std::unique_ptr<DisplayThread> display;
-  DisplayRun(bool reproject, const Camera* camera = nullptr, uint64_t samples_per_tick = 2 * kW * kH) {
+  DisplayRun(bool reproject, const Camera* camera = nullptr, uint64_t samples_per_tick = 2 * kW * kH,
+             bool closed_loop = false) {
     auto loaded = load_scene("default");
     EXPECT_TRUE(loaded.ok());
     scene = std::move(loaded.value());
@@ -176,9 +177,11 @@ struct DisplayRun {
     c.deterministic = true;
     c.seed = 5;
     c.samples_per_tick = samples_per_tick;
+    c.closed_loop = closed_loop;
     engine = std::make_unique<Engine>(*scene, c, camera ? *camera : scene->camera);
     DisplayConfig d;
     d.blend.reproject = reproject;
+    d.blend.temporal = closed_loop;
     display = std::make_unique<DisplayThread>(*engine, d);
   }
   void steps(int n) {
@@ -207,9 +210,11 @@ TEST(ReprojectDisplay, StillCameraNeverReprojectedMovingOncePerChange) {
   EXPECT_EQ(run.display->stats().reproject.reprojections, 2u);
 }
 
+// With closed-loop sampling and temporal weights too: the display's asks steer the render
+// threads, deterministically.
 TEST(ReprojectDisplay, DeterministicRunsStayBitIdentical) {
   auto images = [] {
-    DisplayRun run(true, nullptr, kW * kH / 2);
+    DisplayRun run(true, nullptr, kW * kH / 2, true);
     std::vector<std::vector<float>> out;
     for (int k = 0; k < 16; ++k) {
       if (k >= 6) run.engine->publish_camera(orbit(run.scene->camera, 1.5f * float(k - 5)));
