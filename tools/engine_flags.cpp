@@ -19,6 +19,9 @@ void EngineFlags::add_to(CLI::App& app) {
                "on a camera change, move what is shown to the new view (the render cache)");
   app.add_flag("--temporal", temporal,
                "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they differ");
+  app.add_flag("--closed-loop", closed_loop,
+               "render threads also serve the runs the display asks for (reprojection's guesses, "
+               "colours that jump)");
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
   app.add_flag("--no-packets", no_packets,
                "trace camera rays one by one instead of as 8-ray packets (same image, slower)");
@@ -44,6 +47,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   e.jitter = !no_jitter;
   e.packets = !no_packets;
   e.adaptive.enabled = adaptive;  // converged pixels skipped (docs/adaptive.md)
+  e.closed_loop = closed_loop;
   blend.alpha = alpha;
   blend.time_decay = time_decay;
   blend.reproject = reproject;

@@ -19,6 +19,7 @@ struct EngineFlags {
   bool time_decay = false;
   bool reproject = false;
   bool temporal = false;
+  bool closed_loop = false;
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;

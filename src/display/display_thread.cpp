@@ -296,19 +296,20 @@ void TickSink::begin(const CollectResult& r) {
   points = reproject ? r.points : nullptr;
   if (d.reproject(*image, reproject)) {
     full = true;
-    if (wanted) {  // closed loop: what reprojection guessed is rendered first
+    if (wanted) {  // closed loop: what reprojection could not know (uncovered, may have moved) first
       const uint8_t* marks = d.marks.data();
       for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)
-        if (marks[pixel] & kMarkGuess) wanted->want(image->slot_of(pixel));
+        if (marks[pixel] & (kMarkDisoccluded | kMarkStale)) wanted->want(image->slot_of(pixel));
       wanted->publish();
     }
   }
 }
 
-// Closed loop: a sample far from what its pixel shows (beyond its noise, as temporal_alpha
-// judges) means the content moves there: ask for its run again soon.
+// Closed loop: a sample of the same camera far from what its pixel shows (beyond its noise, as
+// temporal_alpha judges) means something moves there: ask for its run again soon. (After a camera
+// change every pixel jumps; reprojection's marks ask for what matters then.)
 inline bool jumps(const DisplayPixel& m, const PixelSnapshot& u) {
-  if (m.epoch == 0) return false;
+  if (m.epoch == 0 || m.epoch != u.epoch) return false;
   return temporal_alpha(1.0f, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u) >= 1.0f;
 }
 
