@@ -15,13 +15,14 @@ void EngineFlags::add_to(CLI::App& app) {
   app.add_option("--alpha", alpha, "decay: displayed <- displayed (1-a) + sample a")
       ->capture_default_str();
   app.add_flag("--time-decay", time_decay, "alpha from the time since a pixel's last blend");
-  app.add_flag("--reproject", reproject,
-               "on a camera change, move what is shown to the new view (the render cache)");
-  app.add_flag("--temporal", temporal,
-               "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they differ");
-  app.add_flag("--closed-loop", closed_loop,
-               "render threads also serve the runs the display asks for (reprojection's guesses, "
-               "colours that jump)");
+  app.add_flag("--reproject,!--no-reproject", reproject,
+               "on a camera change, move what is shown to the new view (the render cache; default on)");
+  app.add_flag("--temporal,!--no-temporal", temporal,
+               "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they "
+               "differ (default on)");
+  app.add_flag("--closed-loop,!--no-closed-loop", closed_loop,
+               "render threads also serve the runs the display asks for (disocclusions, what "
+               "moves; default on)");
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
   app.add_flag("--no-packets", no_packets,
                "trace camera rays one by one instead of as 8-ray packets (same image, slower)");

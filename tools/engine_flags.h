@@ -17,9 +17,10 @@ struct EngineFlags {
   std::string mode = "frameless";
   float alpha = 0.5f;
   bool time_decay = false;
-  bool reproject = false;
-  bool temporal = false;
-  bool closed_loop = false;
+  // Frameless under motion (bench motion: they win together; a still camera converges as fast).
+  bool reproject = true;
+  bool temporal = true;
+  bool closed_loop = true;
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;

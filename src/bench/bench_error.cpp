@@ -80,6 +80,13 @@ int run_error(const ErrorOptions& options) {
     LiveMode fl = base;
     fl.name = fl.kind = "frameless";
     modes.push_back(fl);
+    // The motion settings (reprojection, temporal weights, closed loop): a still camera must
+    // converge no slower with them.
+    LiveMode fm = base;
+    fm.name = fm.kind = "frameless_motion";
+    fm.display.blend.reproject = fm.display.blend.temporal = true;
+    fm.engine.closed_loop = true;
+    modes.push_back(fm);
     LiveMode cv = base;
     cv.name = cv.kind = "conventional";
     cv.engine.mode = RenderMode::conventional;

@@ -31,7 +31,8 @@ const std::vector<std::string> kHelp = {
     "M: frameless/conventional  V: view",    "[ ]: alpha -/+   - =: refresh -/+",
     ", .: update % -/+   G T: threads -/+",  "P: save EXR snapshot  H/F1: help",
     "arrows, PgUp/PgDn: move the light (or the grabbed instance)",
-    "I: grab/release the instance at the centre of the view",     "O: overlay on/off  Esc: quit"};
+    "I: grab/release the instance at the centre of the view",     "O: overlay on/off  Esc: quit",
+    "J: reprojection on/off  K: temporal blend weights on/off"};
 
 std::string glfw_error_text;
 void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unknown error"; }
@@ -121,8 +122,9 @@ struct Viewer {
       case GLFW_KEY_ESCAPE: quit = true; break;
       case GLFW_KEY_R: set_camera(home); break;
       case GLFW_KEY_M: case GLFW_KEY_COMMA: case GLFW_KEY_PERIOD: case GLFW_KEY_G: case GLFW_KEY_T:
+      case GLFW_KEY_J:
         if (opt.fixed_layout) {
-          status = "cluster: mode, threads, update % fixed";
+          status = "cluster: mode, threads, update %, reprojection fixed";
           dirty = true;
           return;
         }
@@ -138,6 +140,8 @@ struct Viewer {
       case GLFW_KEY_H: case GLFW_KEY_F1: help = !help; break;
       case GLFW_KEY_O: overlay_on = !overlay_on; break;
       case GLFW_KEY_P: save_snapshot(); break;
+      case GLFW_KEY_J: change_display([](DisplayConfig& c) { c.blend.reproject = !c.blend.reproject; }); break;
+      case GLFW_KEY_K: change_display([](DisplayConfig& c) { c.blend.temporal = !c.blend.temporal; }); break;
       case GLFW_KEY_LEFT_BRACKET:
         change_display([](DisplayConfig& c) { c.blend.alpha = std::max(0.01f, c.blend.alpha / 1.25f); });
         break;
@@ -241,8 +245,10 @@ struct Viewer {
                   engine->height(), to_string(ec.mode));
     std::snprintf(l2, sizeof l2, "view %s  threads %d  update %.2g%%", to_string(view),
                   engine->thread_count(), ec.update_percent);
-    std::snprintf(l3, sizeof l3, "alpha %.2f  %.0f Hz (got %.1f)", dc.blend.alpha, dc.refresh_hz,
-                  ds.mean_interval > 0 ? 1.0 / ds.mean_interval : 0.0);
+    std::snprintf(l3, sizeof l3, "alpha %.2f%s  %.0f Hz (got %.1f)%s%s", dc.blend.alpha,
+                  dc.blend.temporal ? " temporal" : "", dc.refresh_hz,
+                  ds.mean_interval > 0 ? 1.0 / ds.mean_interval : 0.0, dc.blend.reproject ? "  reproject" : "",
+                  ec.closed_loop ? "  closed loop" : "");
     std::snprintf(l4, sizeof l4, "%s samples/s  coverage %.1f%%", si(samples_per_s).c_str(),
                   100.0 * s.coverage);
     std::vector<std::string> lines = {l1, l2, l3, l4};

@@ -19,9 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The one-process runs compared with the cluster's turn off what a cluster does not do
+// (reprojection needs hit points, closed loop asks the render threads).
 const std::string kBase =
     "capture default --deterministic --size 48x36 --refresh 20 --layers all --no-mp4 "
-    "--no-contact-sheet";
+    "--no-contact-sheet --no-reproject --no-closed-loop";
 // An orbiting camera (a new camera every frame) with a cut.
 const std::string kCapture = kBase + " --duration 1 --orbit 25 --cut-at 0.3 --seed 3";
 
