@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "bench/bench_motion.h"
+#include "bench/bench_motion_sweep.h"
 #include "tools/command_registry.h"
 #include "tools/common_options.h"
 
@@ -50,7 +51,21 @@ const bool registered = register_command(
           "Reference cache directory (default $XDG_CACHE_HOME/frameless/references or OUT/cache)");
       app.add_flag("--quick", args->quick,
                    "Smoke mode: 160x120, 1.5 s move, 8-spp references, fewer settings, one repeat");
-      return [args]() { return bench::run_motion(*args); };
+      auto sweep = std::make_shared<bench::MotionSweepOptions>();
+      auto sweeping = std::make_shared<bool>(false);
+      app.add_flag("--sweep", *sweeping,
+                   "Sweep the regime (conventional frame time / camera interval) over scenes and "
+                   "sizes; OUT/sweep.json, sweep.png");
+      app.add_option("--sweep-scenes", sweep->scenes, "Scenes of the sweep (default default,bunny)")
+          ->delimiter(',');
+      app.add_option("--sweep-sizes", sweep->sizes,
+                     "Sizes of the sweep (default 160x120,320x240,640x360,960x540)")
+          ->delimiter(',');
+      return [args, sweep, sweeping]() {
+        if (!*sweeping) return bench::run_motion(*args);
+        sweep->base = *args;
+        return bench::run_motion_sweep(*sweep);
+      };
     });
 
 }  // namespace

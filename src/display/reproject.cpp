@@ -29,10 +29,16 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     float px, py, d, bx, by, bd;
     const ScenePoint& point = from.points[p];
     if (!project_after(point, px, py, d)) continue;
-    if (project_before(point, bx, by, bd)) {  // the pixel's centre moves as its point does
-      px += float(p % size_t(w)) + 0.5f - bx;
-      py += float(p / size_t(w)) + 0.5f - by;
-      if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
+    // The pixel's centre moves as its point does, when the pixel shows `before`'s view: its point
+    // then lies inside it. Content of another camera (rendered after the image last moved) has
+    // its point elsewhere; it lands where the point projects.
+    if (project_before(point, bx, by, bd)) {
+      const float dx = float(p % size_t(w)) + 0.5f - bx, dy = float(p / size_t(w)) + 0.5f - by;
+      if (std::fabs(dx) <= 0.75f && std::fabs(dy) <= 0.75f) {
+        px += dx;
+        py += dy;
+        if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
+      }
     }
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
     if (source_[t] == kNone || d < depth_[t]) {
