@@ -22,7 +22,7 @@ void EngineFlags::add_to(CLI::App& app) {
                "differ (default on)");
   app.add_flag("--closed-loop,!--no-closed-loop", closed_loop,
                "render threads also serve the runs the display asks for (disocclusions, what "
-               "moves; default on)");
+               "moves; default off)");
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
   app.add_flag("--no-packets", no_packets,
                "trace camera rays one by one instead of as 8-ray packets (same image, slower)");

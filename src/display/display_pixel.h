@@ -24,6 +24,7 @@ enum PixelMark : uint8_t {
   kMarkFilled = 2,
   kMarkDisoccluded = 4,
   kMarkStale = 8,
+  kMarkUnknown = 16,  // a disocclusion with nothing nearby to guess from: it shows its old content
 };
 inline constexpr uint8_t kMarkGuess = kMarkFilled | kMarkDisoccluded | kMarkStale;
 

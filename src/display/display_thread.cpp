@@ -239,7 +239,7 @@ struct DisplayThread::Impl {
     for (const DisplayPixel& p : img.px)
       if (p.epoch != 0) count_epoch(0, p.epoch);
   }
-  bool reproject(PixelImage& img, bool enabled);
+  bool reproject(PixelImage& img, bool enabled, bool world_moves);
 
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
@@ -294,12 +294,12 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  if (d.reproject(*image, reproject)) {
+  if (d.reproject(*image, reproject, r.world_moves)) {
     full = true;
-    if (wanted) {  // closed loop: what reprojection could not know (uncovered, may have moved) first
+    if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
       for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)
-        if (marks[pixel] & (kMarkDisoccluded | kMarkStale)) wanted->want(image->slot_of(pixel));
+        if (marks[pixel] & (kMarkUnknown | kMarkStale)) wanted->want(image->slot_of(pixel));
       wanted->publish();
     }
   }
@@ -309,7 +309,8 @@ void TickSink::begin(const CollectResult& r) {
 // temporal_alpha judges) means something moves there: ask for its run again soon. (After a camera
 // change every pixel jumps; reprojection's marks ask for what matters then.)
 inline bool jumps(const DisplayPixel& m, const PixelSnapshot& u) {
-  if (m.epoch == 0 || m.epoch != u.epoch) return false;
+  // Four samples at least: before that the pixel's noise is not known.
+  if (m.epoch == 0 || m.epoch != u.epoch || u.count < 4) return false;
   return temporal_alpha(1.0f, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u) >= 1.0f;
 }
 
@@ -488,7 +489,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 }
 
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
-bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled) {
+bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_moves) {
   if (!enabled) {
     points.clear();
     marks.clear();
@@ -519,7 +520,8 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled) {
   points_out.resize(n);
   marks_out.resize(n);
   const ReprojectStats st =
-      reprojector.run(before, reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out));
+      reprojector.run(before, reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out),
+                      world_moves);
   std::swap(img.px, out.px);
   std::swap(img.levels, out.levels);
   std::swap(points, points_out);

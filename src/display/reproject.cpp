@@ -13,7 +13,7 @@ constexpr float kFar = std::numeric_limits<float>::infinity();
 }  // namespace
 
 ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
-                                const SlotImage& to, int max_fill) {
+                                const SlotImage& to, bool world_moves, int max_fill) {
   ReprojectStats stats;
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
@@ -107,10 +107,10 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     uint8_t mark = marks_[t];
     if (source == kNone) {  // nothing reached it: its old content, marked as a guess
       source = uint32_t(t);
-      mark = kMarkDisoccluded;
+      mark = kMarkDisoccluded | kMarkUnknown;
     }
     const ScenePoint& point = from.points[source];
-    if (point_may_move(point.object)) mark |= kMarkStale;
+    if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
     const uint32_t s = from.slot(source);
     DisplayPixel p = from.px[s];
     p.seq = from.px[ts].seq;

@@ -74,8 +74,10 @@ class Reprojector {
   // inside its pixel, as jitter leaves it, moves the pixel's centre by as much). Slots without a point
   // (never rendered) move nowhere; a disoccluded pixel with nothing landed within `max_fill`
   // pixels keeps `from`'s own content, marked. Each slot keeps its seq.
+  // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
+  // marked stale (else nothing is).
   ReprojectStats run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
-                     const SlotImage& to, int max_fill = 3);
+                     const SlotImage& to, bool world_moves = true, int max_fill = 3);
 
  private:
   std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far

@@ -412,6 +412,8 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.levels = e.levels.get();
   r.points = e.points.get();
   r.wanted = e.wanted.runs && e.priority_rings ? &e.wanted : nullptr;
+  r.world_moves = !e.scene.dynamic.empty() || e.instances_epoch.load(std::memory_order_relaxed) > 1 ||
+                  e.world_channel.epoch() > 1;
   r.newest_epoch = e.channel.epoch();
   r.time = e.now();
   const int threads = e.threads;  // counters always have this many entries (see rebuild_layout)

@@ -73,6 +73,9 @@ struct CollectResult {
   // Closed-loop sampling (EngineConfig::closed_loop, frameless mode; else null): the display asks
   // for runs of slots here, from inside its sink callbacks (frameless/closed_loop.h).
   WantedRuns* wanted = nullptr;
+  // Something in the world may move (dynamic objects, moved instances, a changed world): only
+  // then are reprojected pixels showing such things stale.
+  bool world_moves = false;
   uint32_t newest_epoch = 0; // newest published camera epoch
   uint64_t samples = 0;      // total samples traced since start() (for per-frame differences)
   uint64_t dropped = 0;      // total samples dropped for NaN/Inf since start()

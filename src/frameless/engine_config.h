@@ -84,8 +84,11 @@ inline bool owns_thread(const EngineConfig& c, int t) {
   return c.owned_count < 0 || (t >= c.owned_first && t < c.owned_first + c.owned_count);
 }
 
-// Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling.
-inline bool tracks_variance(const EngineConfig& c) { return c.track_variance || c.adaptive.enabled; }
+// Whether render threads keep the Welford M2: asked for, or needed by adaptive sampling or closed loop.
+// (Closed loop needs each pixel's noise to tell a moving colour from a noisy one.)
+inline bool tracks_variance(const EngineConfig& c) {
+  return c.track_variance || c.adaptive.enabled || c.closed_loop;
+}
 
 // Samples taken per pixel update: 2 with jitter (frameless antialiasing), 1 without.
 inline int samples_per_update(const EngineConfig& c) { return c.jitter ? 2 : 1; }

@@ -148,7 +148,7 @@ TEST(Reproject, UncoveredPixelsAreMarkedAndFilledFromBehind) {
   EXPECT_GT(uncovered, 20u);
 }
 
-TEST(Reproject, PointsThatMayMoveAreMarkedStale) {
+TEST(Reproject, PointsThatMayMoveAreMarkedStaleWhenTheWorldMoves) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   Synthetic from = render(a, false), to = render(a, false);
   for (size_t i = 0; i < from.points.size(); i += 2) from.points[i].object = kPointDynamic + 3;
@@ -157,6 +157,10 @@ TEST(Reproject, PointsThatMayMoveAreMarkedStale) {
   EXPECT_GT(st.stale, size_t(kW * kH) / 3);
   for (size_t t = 0; t < to.points.size(); ++t)
     EXPECT_EQ(bool(to.marks[t] & kMarkStale), point_may_move(to.points[t].object)) << t;
+  // While nothing in the world has moved, instances and dynamic objects are where they were.
+  const ReprojectStats still_world =
+      r.run(a, basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image(), false);
+  EXPECT_EQ(still_world.stale, 0u);
 }
 
 // The display thread on the default scene, deterministic.

@@ -24,6 +24,7 @@ TEST(WorldChannel, ReadersNeverSeeATornRecord) {
   WorldChannel ch(std::vector<float>(257, 1.0f));
   std::atomic<bool> done{false};
   std::atomic<uint64_t> reads{0}, torn{0}, backwards{0};
+  std::atomic<int> started{0};  // readers that have read once: the writer waits for all of them
   std::vector<std::thread> readers;
   for (int r = 0; r < 3; ++r)
     readers.emplace_back([&] {
@@ -31,6 +32,7 @@ TEST(WorldChannel, ReadersNeverSeeATornRecord) {
       uint32_t last = 0;
       while (!done.load(std::memory_order_relaxed)) {
         const uint32_t ep = ch.read(buf);
+        if (last == 0) ++started;  // this reader's first read (epochs start at 1)
         ++reads;
         for (float v : buf) torn += v != buf[0];
         backwards += ep < last;
@@ -39,6 +41,9 @@ TEST(WorldChannel, ReadersNeverSeeATornRecord) {
       }
     });
   std::vector<float> rec(257);
+  // On a loaded machine the readers may start late: publish only once they all read.
+  const auto give_up = Clock::now() + std::chrono::seconds(20);
+  while (started.load() < 3 && Clock::now() < give_up) std::this_thread::yield();
   for (uint32_t k = 2; k <= 20000; ++k) {
     std::fill(rec.begin(), rec.end(), float(k));
     ASSERT_EQ(ch.publish(rec.data(), rec.size()), k);
