@@ -156,6 +156,22 @@ int run_motion(const MotionOptions& options) {
       r.percent = a.percent;
       rows.push_back(r);
     }
+    // Equal error at fewer samples: the headline motion settings on half the render threads,
+    // against double buffering on all of them.
+    if (threads >= 2) {
+      RunRow r;
+      r.mode = base;
+      r.mode.kind = "reproject+temporal half-threads";
+      r.mode.name = "frameless reproject+temporal " + std::to_string(threads / 2) + " of " +
+                    std::to_string(threads) + " threads";
+      r.mode.engine.threads = threads / 2;
+      r.mode.display.blend.alpha = float(a.alpha);
+      r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
+      r.mode.engine.update_percent = a.percent;
+      r.alpha = a.alpha;
+      r.percent = a.percent;
+      rows.push_back(r);
+    }
     RunRow cv;
     cv.mode = base;
     cv.mode.kind = "conventional";

@@ -99,31 +99,44 @@ int run_motion_sweep(const MotionSweepOptions& o) {
       !write_text_atomic(o.base.out + "/sweep.csv", csv.text(), error))
     return report_error(error);
 
-  // One line per setting: ratio to double buffering against the regime, one point style per scene.
+  // One panel per scene, one line per setting: ratio to double buffering against the regime.
+  auto short_name = [](std::string n) {
+    for (const std::string cut : {"frameless ", " p=1%"})
+      if (const size_t at = n.find(cut); at != std::string::npos) n.erase(at, cut.size());
+    return n;
+  };
   std::string dat;
   std::vector<std::string> names;
   for (const auto& [name, r] : mean_ratio) names.push_back(name);
-  for (const std::string& name : names) {
-    dat += "# " + name + "\n";
-    for (const SweepPoint& p : points)
-      if (p.rmse.count(name))
-        dat += csv_number(p.regime) + " " + csv_number(p.rmse.at(name) / p.conventional_rmse) + " \"" +
-               p.scene + " " + p.size + "\"\n";
-    dat += "\n\n";
-  }
+  int block = 0;
+  std::map<std::string, std::vector<int>> blocks;  // scene -> data blocks, in names' order
+  for (const std::string& scene : o.scenes)
+    for (const std::string& name : names) {
+      dat += "# " + scene + ": " + name + "\n";
+      for (const SweepPoint& p : points)
+        if (p.scene == scene && p.rmse.count(name))
+          dat += csv_number(p.regime) + " " + csv_number(p.rmse.at(name) / p.conventional_rmse) + "\n";
+      dat += "\n\n";
+      blocks[scene].push_back(block++);
+    }
   if (!write_text_atomic(o.base.out + "/sweep.dat", dat, error)) return report_error(error);
-  std::string body =
-      "set title 'Moving camera: time-averaged RMSE against double buffering, by regime'\n"
-      "set xlabel 'regime: conventional frame time / camera input interval (log)'\n"
-      "set ylabel 'RMSE / double buffering RMSE'\nset logscale x\nset grid\n"
-      "set key outside right font ',8'\nset yrange [0:*]\n"
-      "set arrow from graph 0, first 1 to graph 1, first 1 nohead dt 2 lc rgb 'gray40'\nplot ";
-  for (size_t k = 0; k < names.size(); ++k)
-    body += (k ? ", " : "") + std::string("'") + o.base.out + "/sweep.dat' index " + std::to_string(k) +
-            " using 1:2 with linespoints lw 2 title '" + names[k] + "'";
-  body += "\n";
+  std::string body = "set multiplot layout 1," + std::to_string(o.scenes.size()) +
+                     " title 'Moving camera: time-averaged RMSE / double buffering RMSE, by regime'\n"
+                     "set xlabel 'conventional frame time / camera interval'\nset logscale x\nset grid\n"
+                     "set key top right font ',8' opaque\nset yrange [0:1.6]\n"
+                     "set arrow from graph 0, first 1 to graph 1, first 1 nohead dt 2 lc rgb 'gray40'\n";
+  for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
+    body += "set title '" + o.scenes[sc] + "'\nset ylabel '" + (sc == 0 ? "RMSE ratio" : "") + "'\nplot ";
+    const std::vector<int>& bs = blocks[o.scenes[sc]];
+    for (size_t k = 0; k < bs.size(); ++k)
+      body += (k ? ", " : "") + std::string("'") + o.base.out + "/sweep.dat' index " + std::to_string(bs[k]) +
+              " using 1:2 with linespoints lw 2 lt " + std::to_string(k + 1) + " title '" +
+              short_name(names[k]) + "'";
+    body += "\n";
+  }
+  body += "unset multiplot\n";
   bool png = false;
-  if (!plot_png(o.base.out, "sweep", 1000, 460, body, error, &png)) return report_error(error);
+  if (!plot_png(o.base.out, "sweep", 1200, 480, body, error, &png)) return report_error(error);
   std::printf("bench motion sweep: camera %.3g Hz, %zu points\n", o.base.camera_hz, points.size());
   for (const SweepPoint& p : points) {
     std::printf("  %-8s %-8s regime %5.2f  conventional RMSE %.4f", p.scene.c_str(), p.size.c_str(), p.regime,

@@ -2,6 +2,7 @@
 #include "core/render_sample.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/rng.h"
 #include "core/scene_analysis.h"
@@ -24,12 +25,17 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;
-    out.position = ray.org + ray.dir * hit.t;
+    // Reprojection's point: the hit moved onto the pixel centre's ray at the same view depth, so
+    // the points of one view form a grid whatever the jitter (a forward splat then leaves no
+    // random holes) and a pixel is moved by its centre's motion.
+    const Ray centre = camera_ray(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f);
+    const float z = glm::dot(ray.dir, camera.w) * hit.t;
+    out.position = centre.org + centre.dir * (z / glm::dot(centre.dir, camera.w));
     out.object = is_dynamic_prim(hit.prim) ? kPointDynamic + (hit.prim - kDynamicPrimBase)
                  : hit.inst != kInvalidId  ? kPointInstance + (hit.inst & 0x0fffffffu)
                                            : kPointStatic;
   } else {
-    out.position = ray.dir;
+    out.position = camera_ray(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f).dir;
     out.object = kPointSky;
   }
   // Drop any sample in which a NaN or Inf arose; the caller counts it.

@@ -183,8 +183,9 @@ struct DisplayThread::Impl {
   CameraBasis reproject_basis;
   Reprojector reprojector;
   PixelImage reprojected;
-  // Each shown pixel's primary hit and its marks, by pixel (the display thread's alone, so outside
-  // the triple buffer), and the reprojection's output for them.
+  // Reprojection's marks by pixel and, for marked pixels (content moved there), their points; an
+  // unmarked pixel's point is the engine's. The display thread's alone, so outside the triple
+  // buffer; with the reprojection's output for them.
   std::vector<ScenePoint> points, points_out;
   std::vector<uint8_t> marks, marks_out;
   ReprojectTotals reproject_totals;
@@ -239,7 +240,7 @@ struct DisplayThread::Impl {
     for (const DisplayPixel& p : img.px)
       if (p.epoch != 0) count_epoch(0, p.epoch);
   }
-  bool reproject(PixelImage& img, bool enabled, bool world_moves);
+  bool reproject(PixelImage& img, bool enabled, bool world_moves, const PixelPoint* engine_points);
 
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
@@ -294,7 +295,7 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  if (d.reproject(*image, reproject, r.world_moves)) {
+  if (d.reproject(*image, reproject, r.world_moves, r.points)) {
     full = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
@@ -368,10 +369,9 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
     px[i].seq = u.seq;
     if (points) {
       const size_t pixel = image->pixel_of(first + i);
-      // Read after the state's seq: this point is the update's or a newer one's.
-      const ScenePoint point = load_point(points[pixel]);
       if (u.epoch < d.reproject_epoch) {
-        redirect(u, point);
+        // Read after the state's seq: this point is the update's or a newer one's.
+        redirect(u, load_point(points[pixel]));
         continue;
       }
       uint8_t& mark = d.marks[pixel];
@@ -380,8 +380,9 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
         asked = true;
       }
       show(px[i], u, mark & kMarkGuess);
-      d.points[pixel] = point;
-      mark = kMarkNone;
+      // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
+      // costs a byte per update here, not a point.
+      if (mark) mark = kMarkNone;
     } else {
       if (wanted && jumps(px[i], u)) {
         wanted->want(first + i);
@@ -489,7 +490,8 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 }
 
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
-bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_moves) {
+bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_moves,
+                                    const PixelPoint* engine_points) {
   if (!enabled) {
     points.clear();
     marks.clear();
@@ -505,7 +507,6 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_mo
   const Camera camera = engine.camera(&epoch);
   if (epoch == reproject_epoch) return false;  // a still camera is never reprojected
   const bool first = reproject_epoch == 0;
-  const CameraBasis before = reproject_basis;
   reproject_epoch = epoch;
   reproject_basis = make_camera_basis(camera, img.width, img.height);
   if (first) return false;
@@ -519,8 +520,12 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_mo
   out.levels.resize(n);
   points_out.resize(n);
   marks_out.resize(n);
+  // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
+  // engine's point of its newest update.
+  for (size_t p = 0; p < n; ++p)
+    if (!marks[p]) points[p] = load_point(engine_points[p]);
   const ReprojectStats st =
-      reprojector.run(before, reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out),
+      reprojector.run(reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out),
                       world_moves);
   std::swap(img.px, out.px);
   std::swap(img.levels, out.levels);

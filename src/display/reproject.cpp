@@ -12,7 +12,7 @@ constexpr float kFar = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
-ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
+ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill) {
   ReprojectStats stats;
   const int w = from.width, h = from.height;
@@ -22,24 +22,13 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   marks_.assign(n, kMarkMoved);
   // Forward splat: each slot's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays).
-  const Projector project_after(after), project_before(before);
+  const Projector project(after);
   // Pixels in raster order, points by pixel: the splat streams through its input and writes
-  // near where it reads (slots come in shuffled chunks: walking them misses the cache).
+  // near where it reads (slots come in shuffled chunks: walking them misses the cache). Points
+  // lie on their pixel centre's ray (trace_sample), so each pixel moves by its centre's motion.
   for (size_t p = 0; p < n; ++p) {
-    float px, py, d, bx, by, bd;
-    const ScenePoint& point = from.points[p];
-    if (!project_after(point, px, py, d)) continue;
-    // The pixel's centre moves as its point does, when the pixel shows `before`'s view: its point
-    // then lies inside it. Content of another camera (rendered after the image last moved) has
-    // its point elsewhere; it lands where the point projects.
-    if (project_before(point, bx, by, bd)) {
-      const float dx = float(p % size_t(w)) + 0.5f - bx, dy = float(p / size_t(w)) + 0.5f - by;
-      if (std::fabs(dx) <= 0.75f && std::fabs(dy) <= 0.75f) {
-        px += dx;
-        py += dy;
-        if (!(px >= 0.0f && px < float(w) && py >= 0.0f && py < float(h))) continue;
-      }
-    }
+    float px, py, d;
+    if (!project(from.points[p], px, py, d)) continue;
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
     if (source_[t] == kNone || d < depth_[t]) {
       depth_[t] = d;

@@ -69,14 +69,13 @@ struct SlotImage {
 
 class Reprojector {
  public:
-  // `to` <- `from`, shown from camera `before`, moved to camera `after` (same size and slot
-  // order). Each pixel moves by its point's motion between the two cameras (so a point anywhere
-  // inside its pixel, as jitter leaves it, moves the pixel's centre by as much). Slots without a point
-  // (never rendered) move nowhere; a disoccluded pixel with nothing landed within `max_fill`
-  // pixels keeps `from`'s own content, marked. Each slot keeps its seq.
+  // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
+  // point projects (points lie on their pixel centre's ray, see SampleResult::position). Slots
+  // without a point (never rendered) move nowhere; a disoccluded pixel with nothing landed within
+  // `max_fill` pixels keeps `from`'s own content, marked. Each slot keeps its seq.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).
-  ReprojectStats run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
+  ReprojectStats run(const CameraBasis& after, const SlotImage& from,
                      const SlotImage& to, bool world_moves = true, int max_fill = 3);
 
  private:

@@ -60,6 +60,26 @@ TEST(RenderSample, DepthAndNormalAtTheCentreAndOnAMiss) {
   EXPECT_EQ(miss.color, s->settings.background);
 }
 
+// Reprojection's point: a jittered sample's hit, moved onto its pixel centre's ray at the same
+// view depth; on a miss the centre ray's direction. Hits name what they hit.
+TEST(RenderSample, PointLiesOnThePixelCentresRayAtTheHitsViewDepth) {
+  auto s = sphere_scene();
+  const CameraBasis cam = make_camera_basis(Camera{}, 33, 25);
+  for (const float jx : {0.1f, 0.5f, 0.9f})
+    for (const float jy : {0.2f, 0.8f}) {
+      const SampleResult r = trace_sample(*s, cam, 16.0f + jx, 12.0f + jy, 0);
+      ASSERT_EQ(r.object, kPointStatic);
+      const Ray centre = camera_ray(cam, 16.5f, 12.5f), jittered = camera_ray(cam, 16.0f + jx, 12.0f + jy);
+      const Vec3 off = r.position - centre.org;
+      EXPECT_LT(glm::length(glm::cross(centre.dir, off)), 1e-5f * glm::length(off));  // on the centre ray
+      const Vec3 hit = jittered.org + jittered.dir * r.depth;
+      EXPECT_NEAR(glm::dot(off, cam.w), glm::dot(hit - cam.eye, cam.w), 1e-5f);  // at the hit's depth
+    }
+  const SampleResult miss = trace_sample(*s, cam, 0.3f, 0.7f, 0);
+  EXPECT_EQ(miss.object, kPointSky);
+  EXPECT_LT(glm::length(miss.position - camera_ray(cam, 0.5f, 0.5f).dir), 1e-6f);
+}
+
 // On a plane facing the camera, depth grows monotonically away from the image centre, so a
 // jittered sample of an off-centre pixel lies between the depths of the pixel's corners.
 TEST(RenderSample, JitterStaysInsideThePixelAndVaries) {

@@ -79,7 +79,7 @@ TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
   const CameraBasis b = basis({0.3f, 0.2f, 4.6f}, {0.1f, 0.05f, 0.0f});
   Synthetic from = render(a, false), to = render(a, false);
   Reprojector r;
-  const ReprojectStats st = r.run(a, b, from.image(), to.image());
+  const ReprojectStats st = r.run(b, from.image(), to.image());
   EXPECT_GT(st.moved, size_t(kW * kH) * 8 / 10);
   size_t cracks = 0, crack_marked_uncovered = 0;
   for (int y = 0; y < kH; ++y)
@@ -126,7 +126,7 @@ TEST(Reproject, UncoveredPixelsAreMarkedAndFilledFromBehind) {
   const CameraBasis b = basis({0.5f, 0.0f, 5.0f}, {0.5f, 0.0f, 0.0f});  // sideways: parallax
   Synthetic from = render(a, true), to = render(a, true);
   Reprojector r;
-  const ReprojectStats st = r.run(a, b, from.image(), to.image());
+  const ReprojectStats st = r.run(b, from.image(), to.image());
   EXPECT_GT(st.disoccluded, 0u);
   size_t uncovered = 0;
   for (int y = 1; y + 1 < kH; ++y)
@@ -153,13 +153,13 @@ TEST(Reproject, PointsThatMayMoveAreMarkedStaleWhenTheWorldMoves) {
   Synthetic from = render(a, false), to = render(a, false);
   for (size_t i = 0; i < from.points.size(); i += 2) from.points[i].object = kPointDynamic + 3;
   Reprojector r;
-  const ReprojectStats st = r.run(a, basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image());
+  const ReprojectStats st = r.run(basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image());
   EXPECT_GT(st.stale, size_t(kW * kH) / 3);
   for (size_t t = 0; t < to.points.size(); ++t)
     EXPECT_EQ(bool(to.marks[t] & kMarkStale), point_may_move(to.points[t].object)) << t;
   // While nothing in the world has moved, instances and dynamic objects are where they were.
   const ReprojectStats still_world =
-      r.run(a, basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image(), false);
+      r.run(basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image(), false);
   EXPECT_EQ(still_world.stale, 0u);
 }
 
