@@ -343,7 +343,8 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
   const size_t slot = image->slot_of(pixel);
   uint8_t& mark = d.marks[pixel];
-  const ScenePoint& shown = d.points[pixel];
+  // A marked pixel shows moved content with its moved point; an unmarked one its own newest update.
+  const ScenePoint shown = mark ? d.points[pixel] : load_point(points[pixel]);
   float sx, sy, shown_depth;
   const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
   if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
