@@ -48,6 +48,7 @@ struct Writer {
   std::vector<std::string> frame_paths;
   std::vector<ViewMode> views;  // opt.views, parsed
   std::vector<float> rgb;
+  std::vector<std::vector<float>> view_rgb;  // each false-colour view of the frame, drawn before the files
   std::string settings_text;
 
   Result<bool> check_hook(const std::string& path) {
@@ -66,6 +67,14 @@ struct Writer {
   // new is left behind.
   Result<bool> write_frame(const DisplayImage& img, uint64_t samples, double wall_time,
                            const Camera& camera) {
+    // GL first, without the commit lock: the driver takes locks of its own.
+    view_rgb.resize(views.size());
+    for (size_t v = 0; v < views.size(); ++v) {
+      presenter.upload(img, views[v]);
+      if (auto r = presenter.render_linear(view_rgb[v]); !r.ok()) return r;
+    }
+    presenter.upload(img, ViewMode::shaded);
+    if (auto r = presenter.render_linear(rgb); !r.ok()) return r;
     // A fatal abort (a cluster rank failed) waits for this frame's files and manifest to agree.
     const std::lock_guard<std::mutex> commit(output_commit_mutex());
     const int index = int(manifest.frames.size());
@@ -78,17 +87,13 @@ struct Writer {
     };
     std::map<std::string, std::string> view_files;
     for (size_t v = 0; v < views.size(); ++v) {
-      presenter.upload(img, views[v]);
-      if (auto r = presenter.render_linear(rgb); !r.ok()) return fail(r);
       const std::string view_name = capture_view_name(opt.views[v], index);
       const std::string view_path = join(opt.out_dir, view_name);
       if (auto h = check_hook(view_path); !h.ok()) return fail(h);
-      if (auto p = write_png(view_path, img.width, img.height, rgb.data()); !p.ok()) return fail(p);
+      if (auto p = write_png(view_path, img.width, img.height, view_rgb[v].data()); !p.ok()) return fail(p);
       written.push_back(view_path);
       view_files[opt.views[v]] = view_name;
     }
-    presenter.upload(img, ViewMode::shaded);
-    if (auto r = presenter.render_linear(rgb); !r.ok()) return fail(r);
     ExrAttributes a;
     a.frames_per_second = opt.refresh_hz;
     if (wall_time >= 0) {
