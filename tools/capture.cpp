@@ -72,12 +72,7 @@ int run(const CaptureArgs& a) {
   ClusterJoin cluster;
   cluster.requested = a.cluster;
   if (!cluster.start(error)) return report_error(error);
-  // Hit points do not cross the wire and clients serve no asks: across a cluster the display
-  // shows what arrives (docs/cluster.md).
-  if (cluster.session) {
-    e.closed_loop = false;
-    o.blend.reproject = false;
-  }
+  if (cluster.session) fit_to_cluster(e, o.blend);
   std::string load_error;
   std::unique_ptr<Scene> scene;
   // The output folder is checked before the scene is even loaded: a bad --out fails at once

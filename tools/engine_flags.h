@@ -31,4 +31,11 @@ struct EngineFlags {
   bool apply(EngineConfig& engine, BlendConfig& blend, std::string& error) const;
 };
 
+// Across a cluster hit points do not cross the wire and clients serve no asks: reprojection
+// and closed loop are off there (docs/cluster.md).
+inline void fit_to_cluster(EngineConfig& engine, BlendConfig& blend) {
+  engine.closed_loop = false;
+  blend.reproject = false;
+}
+
 }  // namespace frameless::cli

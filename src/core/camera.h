@@ -32,13 +32,19 @@ struct CameraBasis {
 
 CameraBasis make_camera_basis(const Camera& camera, int width, int height);
 
-// Primary ray through continuous image position (px, py) in pixel units.
-inline Ray camera_ray(const CameraBasis& b, float px, float py) {
+// Direction through continuous image position (px, py), not normalized: its component along
+// the view axis w is 1, so eye + d z is the point at view depth z.
+inline Vec3 camera_direction(const CameraBasis& b, float px, float py) {
   const float sx = (2.0f * px / float(b.width) - 1.0f) * b.tan_half * b.aspect;
   const float sy = (1.0f - 2.0f * py / float(b.height)) * b.tan_half;
+  return b.w + sx * b.u + sy * b.v;
+}
+
+// Primary ray through continuous image position (px, py) in pixel units.
+inline Ray camera_ray(const CameraBasis& b, float px, float py) {
   Ray r;
   r.org = b.eye;
-  r.dir = glm::normalize(b.w + sx * b.u + sy * b.v);
+  r.dir = glm::normalize(camera_direction(b, px, py));
   return r;
 }
 

@@ -28,14 +28,14 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
     // Reprojection's point: the hit moved onto the pixel centre's ray at the same view depth, so
     // the points of one view form a grid whatever the jitter (a forward splat then leaves no
     // random holes) and a pixel is moved by its centre's motion.
-    const Ray centre = camera_ray(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f);
-    const float z = glm::dot(ray.dir, camera.w) * hit.t;
-    out.position = centre.org + centre.dir * (z / glm::dot(centre.dir, camera.w));
+    // (No normalize: camera_direction's view-axis component is 1.)
+    const Vec3 centre = camera_direction(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f);
+    out.position = camera.eye + centre * (glm::dot(ray.dir, camera.w) * hit.t);
     out.object = is_dynamic_prim(hit.prim) ? kPointDynamic + (hit.prim - kDynamicPrimBase)
                  : hit.inst != kInvalidId  ? kPointInstance + (hit.inst & 0x0fffffffu)
                                            : kPointStatic;
   } else {
-    out.position = camera_ray(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f).dir;
+    out.position = camera_direction(camera, std::floor(px) + 0.5f, std::floor(py) + 0.5f);
     out.object = kPointSky;
   }
   // Drop any sample in which a NaN or Inf arose; the caller counts it.

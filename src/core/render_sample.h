@@ -13,7 +13,8 @@ struct SampleResult {
   bool valid = true;  // false: a NaN/Inf arose and the sample must be dropped (and counted)
   uint8_t levels = 0; // deepest reflection/refraction level traced (seed figure 1d), saturating
   // What reprojection needs (the render cache): the primary hit in world space, moved onto the
-  // pixel centre's ray at the same view depth (the centre ray's direction on a miss), and what
+  // pixel centre's ray at the same view depth (the centre ray's direction, not normalized, on a
+  // miss), and what
   // was hit (kPoint* below).
   Vec3 position{0.0f};
   uint32_t object = 0;

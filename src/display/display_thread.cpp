@@ -368,31 +368,27 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == px[i].seq) continue;
     px[i].seq = u.seq;
+    const size_t pixel = image->pixel_of(first + i);
+    uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
     if (points) {
-      const size_t pixel = image->pixel_of(first + i);
       if (u.epoch < d.reproject_epoch) {
         // Read after the state's seq: this point is the update's or a newer one's.
         redirect(u, load_point(points[pixel]));
         continue;
       }
-      uint8_t& mark = d.marks[pixel];
-      if (wanted && !(mark & kMarkGuess) && jumps(px[i], u)) {
-        wanted->want(first + i);
-        asked = true;
-      }
-      show(px[i], u, mark & kMarkGuess);
-      // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
-      // costs a byte per update here, not a point.
-      if (mark) mark = kMarkNone;
-    } else {
-      if (wanted && jumps(px[i], u)) {
-        wanted->want(first + i);
-        asked = true;
-      }
-      show(px[i], u, false);
+      mark = &d.marks[pixel];
     }
+    const bool guess = mark && (*mark & kMarkGuess);
+    if (wanted && !guess && jumps(px[i], u)) {
+      wanted->want(first + i);
+      asked = true;
+    }
+    show(px[i], u, guess);
+    // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
+    // costs a byte per update here, not a point.
+    if (mark && *mark) *mark = kMarkNone;
     // Read after the state's seq: these levels are the shown update's or a newer one's.
-    if (levels) lv[i] = levels[image->pixel_of(first + i)].load(std::memory_order_relaxed);
+    if (levels) lv[i] = levels[pixel].load(std::memory_order_relaxed);
   }
   mark_dirty(first, count);
   if (asked) {  // inside collect(): the asks stay valid (the layout is locked)

@@ -25,14 +25,8 @@ struct TopHalfAsker final : UpdateSink {
 }  // namespace
 
 ClosedLoopStats closed_loop_stats(const Scene& scene, const Camera& camera, const StatsRunConfig& c) {
-  EngineConfig ec;
-  ec.width = c.width;
-  ec.height = c.height;
+  EngineConfig ec = engine_config(c);
   ec.threads = std::max(1, c.threads);
-  ec.chunk_size = c.chunk_size;
-  ec.update_percent = c.update_percent;
-  ec.seed = c.seed;
-  ec.order = c.order;
   ec.deterministic = true;
   ec.closed_loop = true;
   ec.shader = flat_shader();

@@ -19,6 +19,8 @@ SampleResult flat_sample(const void*, const CameraBasis&, float, float, uint64_t
   return r;
 }
 
+}  // namespace
+
 EngineConfig engine_config(const StatsRunConfig& c) {
   EngineConfig e;
   e.width = c.width;
@@ -32,6 +34,8 @@ EngineConfig engine_config(const StatsRunConfig& c) {
   e.shader = c.shader;
   return e;
 }
+
+namespace {
 
 void check(const Engine& engine) {
   if (auto err = engine.error()) throw std::runtime_error(*err);

@@ -27,6 +27,9 @@ struct StatsRunConfig {
   SampleShader shader;         // null: the real ray tracer
 };
 
+// The engine settings of a stats run (size, threads, chunks, order, seed, clock, shader).
+EngineConfig engine_config(const StatsRunConfig& config);
+
 // A cheap synthetic shader (constant grey): in deterministic mode where pixels are updated does
 // not depend on what is shaded, so the distribution statistics use it to run fast.
 SampleShader flat_shader();

@@ -77,7 +77,7 @@ TEST(RenderSample, PointLiesOnThePixelCentresRayAtTheHitsViewDepth) {
     }
   const SampleResult miss = trace_sample(*s, cam, 0.3f, 0.7f, 0);
   EXPECT_EQ(miss.object, kPointSky);
-  EXPECT_LT(glm::length(miss.position - camera_ray(cam, 0.5f, 0.5f).dir), 1e-6f);
+  EXPECT_LT(glm::length(glm::normalize(miss.position) - camera_ray(cam, 0.5f, 0.5f).dir), 1e-6f);
 }
 
 // On a plane facing the camera, depth grows monotonically away from the image centre, so a
