@@ -17,6 +17,10 @@ void EngineFlags::add_to(CLI::App& app) {
   app.add_flag("--time-decay", time_decay, "alpha from the time since a pixel's last blend");
   app.add_flag("--reproject,!--no-reproject", reproject,
                "on a camera change, move what is shown to the new view (the render cache; default on)");
+  app.add_option("--reproject-budget", reproject_budget,
+                 "most of one core the display spends reprojecting, 0..1 (0: unlimited; a change "
+                 "over budget merges into the next)")
+      ->capture_default_str();
   app.add_flag("--temporal,!--no-temporal", temporal,
                "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they "
                "differ (default on)");
@@ -40,6 +44,10 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
     error = "--alpha: must be in (0, 1]";
     return false;
   }
+  if (!(reproject_budget >= 0.0f && reproject_budget <= 1.0f)) {
+    error = "--reproject-budget: must be in [0, 1]";
+    return false;
+  }
   e.mode = *parsed;
   e.threads = threads > 0 ? threads : hardware_threads();
   e.chunk_size = chunk;
@@ -52,6 +60,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   blend.alpha = alpha;
   blend.time_decay = time_decay;
   blend.reproject = reproject;
+  blend.reproject_budget = reproject_budget;
   blend.temporal = temporal;
   return true;
 }

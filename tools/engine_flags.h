@@ -22,6 +22,7 @@ struct EngineFlags {
   bool reproject = true;
   bool temporal = true;
   bool closed_loop = false;
+  float reproject_budget = 0.0f;  // share of one core for reprojection (0: unlimited)
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;

@@ -82,13 +82,14 @@ struct DisplayCost {
 // `moving`: a camera orbiting 15 degrees a second, published at 30 Hz, during the measurement;
 // `reproject`: the display moves its image at every camera change (the render cache).
 DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds,
-                        bool moving = false, bool reproject = false) {
+                        bool moving = false, bool reproject = false, float budget = 0.0f) {
   c.width = 1280;
   c.height = 720;
   Engine e(scene, c, camera);
   DisplayConfig dc;
   dc.refresh_hz = 60;
   dc.blend.reproject = reproject;
+  dc.blend.reproject_budget = budget;
   DisplayThread d(e, dc);
   e.start();
   d.start();
@@ -164,6 +165,7 @@ int run_engine(const EngineBenchOptions& a) {
     c1.packets = cc1.packets = false;
     std::vector<double> fl_s, conv_s, fl_cpu, conv_cpu, ratio, ratio_cpu, cpus, ups, nspu, cons;
     std::vector<double> cpu_moving, cpu_reproject, cpu_reproject_part, reproj_rate, cpu_still_reproject;
+    std::vector<double> cpu_budget, reproj_rate_budget;
     std::vector<double> fl1_s, conv1_s, gain_fl, gain_conv;
     for (int k = 0; k < std::max(1, a.repeats); ++k) {
       note("frameless throughput");
@@ -197,6 +199,9 @@ int run_engine(const EngineBenchOptions& a) {
       cpu_still_reproject.push_back(still_cache.cpu_fraction);
       cpu_moving.push_back(moving.cpu_fraction);
       cpu_reproject.push_back(cache.cpu_fraction);
+      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, 0.18f);
+      cpu_budget.push_back(budget.cpu_fraction);
+      reproj_rate_budget.push_back(budget.reprojections_per_s);
       cpu_reproject_part.push_back(cache.reproject_fraction);
       reproj_rate.push_back(cache.reprojections_per_s);
     }
@@ -241,6 +246,8 @@ int run_engine(const EngineBenchOptions& a) {
     j["consumer_cpu_fraction"] = median(cons);
     j["display_cpu_fraction_moving"] = median(cpu_moving);
     j["display_cpu_fraction_moving_reproject"] = median(cpu_reproject);
+    j["display_cpu_fraction_moving_reproject_budget"] = median(cpu_budget);
+    j["display_reprojections_per_s_budget"] = median(reproj_rate_budget);
     j["display_reproject_cpu_fraction"] = median(cpu_reproject_part);
     j["display_reprojections_per_s"] = median(reproj_rate);
     j["display_cpu_fraction_still_reproject"] = median(cpu_still_reproject);
@@ -266,6 +273,9 @@ int run_engine(const EngineBenchOptions& a) {
                   "(%.2f%% reprojecting, %.1f reprojections/s); still camera with reprojection on %.2f%%\n",
                   100.0 * median(cpu_moving), 100.0 * median(cpu_reproject),
                   100.0 * median(cpu_reproject_part), median(reproj_rate), 100.0 * median(cpu_still_reproject));
+      std::printf("  with a reprojection budget of 18%% of a core (--reproject-budget 0.18): %.2f%% of one "
+                  "core, %.1f reprojections/s\n",
+                  100.0 * median(cpu_budget), median(reproj_rate_budget));
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

@@ -21,6 +21,10 @@ struct BlendConfig {
   // Frameless mode: when the camera changes, move what is shown to where it now belongs (the
   // render cache; display/reproject.h) instead of showing the old view until re-rendered.
   bool reproject = false;
+  // Most of one core the display may spend reprojecting, averaged over time (0: no limit). A
+  // camera change that would exceed it merges into the next one, as when the display falls
+  // behind. Deterministic runs ignore it (their steps must not depend on the clock).
+  float reproject_budget = 0.0f;  // default: unlimited (on 2 cores the error under motion is far lower)
 };
 
 // displayed (1 - alpha) + sample alpha, per channel.

@@ -189,6 +189,7 @@ struct DisplayThread::Impl {
   std::vector<ScenePoint> points, points_out;
   std::vector<uint8_t> marks, marks_out;
   ReprojectTotals reproject_totals;
+  ReprojectBudget reproject_budget;
 
   // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
   // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
@@ -240,7 +241,8 @@ struct DisplayThread::Impl {
     for (const DisplayPixel& p : img.px)
       if (p.epoch != 0) count_epoch(0, p.epoch);
   }
-  bool reproject(PixelImage& img, bool enabled, bool world_moves, const PixelPoint* engine_points);
+  bool reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
+                 const PixelPoint* engine_points);
 
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
@@ -295,7 +297,7 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  if (d.reproject(*image, reproject, r.world_moves, r.points)) {
+  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points)) {
     full = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
@@ -487,7 +489,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 }
 
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
-bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_moves,
+bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
                                     const PixelPoint* engine_points) {
   if (!enabled) {
     points.clear();
@@ -503,6 +505,10 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_mo
   uint32_t epoch = 0;
   const Camera camera = engine.camera(&epoch);
   if (epoch == reproject_epoch) return false;  // a still camera is never reprojected
+  // Over budget: this change merges into a later one (deterministic runs ignore the clock).
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (reproject_epoch != 0 && !engine.config().deterministic && !reproject_budget.allow(wall, budget))
+    return false;
   const bool first = reproject_epoch == 0;
   reproject_epoch = epoch;
   reproject_basis = make_camera_basis(camera, img.width, img.height);
@@ -535,7 +541,9 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, bool world_mo
   t.filled += st.filled;
   t.disoccluded += st.disoccluded;
   t.stale += st.stale;
-  t.cpu_seconds += thread_cpu_seconds() - c0;
+  const double cost = thread_cpu_seconds() - c0;
+  reproject_budget.spend(cost);
+  t.cpu_seconds += cost;
   return true;
 }
 

@@ -5,6 +5,7 @@
 // background), both marked, so render threads can fill them first and the blend replaces them
 // whole. Works in the display's slot order.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -44,6 +45,29 @@ inline bool project_point(const CameraBasis& to, const ScenePoint& point, float&
   return Projector(to)(point, px, py, depth);
 }
 
+// The display's CPU budget for reprojection, a leaky bucket: credit fills at `budget` seconds of
+// CPU per second of wall time, at most one reprojection's cost ahead; a reprojection spends its
+// CPU time; none starts while the credit is negative (its camera change merges into a later one).
+class ReprojectBudget {
+ public:
+  // Whether a reprojection may start at wall time `now` (seconds); budget <= 0: always.
+  bool allow(double now, float budget) {
+    if (!(budget > 0.0f)) return true;
+    if (last_ >= 0.0) credit_ = std::min(cost_, credit_ + double(budget) * (now - last_));
+    last_ = now;
+    return credit_ >= 0.0;
+  }
+  void spend(double cpu_seconds) {
+    cost_ = cpu_seconds;
+    credit_ -= cpu_seconds;
+  }
+
+ private:
+  double credit_ = 0.0;  // CPU seconds still allowed
+  double last_ = -1.0;   // wall time of the last fill
+  double cost_ = 0.0;    // the last reprojection's CPU seconds (the most credit kept)
+};
+
 struct ReprojectStats {
   size_t moved = 0;        // pixels that received a moved pixel
   size_t filled = 0;       // cracks closed from a neighbour
@@ -78,7 +102,16 @@ class Reprojector {
   ReprojectStats run(const CameraBasis& after, const SlotImage& from,
                      const SlotImage& to, bool world_moves = true, int max_fill = 3);
 
+  // How disocclusions find the farthest content near them: one window per hole, or by rows
+  // (cheaper for many holes); automatic picks by the number of holes. Both give the same image.
+  enum class Search { automatic, window, rows };
+  void set_search(Search s) { separable_ = s; }
+
  private:
+  void farthest_by_rows(int w, int h, int r);
+  Search separable_ = Search::automatic;
+  std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_by_rows' scratch
+  std::vector<uint8_t> row_done_;
   std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far
   std::vector<uint32_t> source_; // by pixel: the pixel of `from` it shows (kNone: a hole)
   struct Fill {
