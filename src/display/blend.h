@@ -6,6 +6,7 @@
 
 #include "core/types.h"
 #include "frameless/pixel_state.h"
+#include "frameless/temporal_weight.h"
 
 namespace frameless {
 
@@ -35,17 +36,13 @@ inline Vec3 blend(const Vec3& displayed, const Vec3& sample, float alpha) {
 // Weight of a new sample under time-based decay after `dt` seconds (0 <= result <= 1).
 float decay_alpha(float dt, float decay_seconds);
 
-// The temporal weight of a sample: `alpha` halved where the sample and the shown colour agree
-// within the pixel's noise (2 sigma of its luminance plus 5 % of the level), rising to 1 where
-// they differ by three times that.
+// The temporal weight of a sample (frameless/temporal_weight.h, the rule the render threads use
+// for pixels under moving objects): `alpha` halved where the sample and the shown colour agree
+// within the pixel's noise, rising to 1 where they clearly differ.
 inline float temporal_alpha(float alpha, const Vec3& shown, const PixelSnapshot& u) {
   auto lum = [](const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; };
-  const float ls = lum(u.sample), lp = lum(shown);
   const float sigma = u.variance > 0.0f ? std::sqrt(u.variance) : 0.0f;
-  const float tolerance = 2.0f * sigma + 0.05f * std::max(std::fabs(ls), std::fabs(lp)) + 0.01f;
-  const float t = std::clamp((std::fabs(ls - lp) - tolerance) / (2.0f * tolerance), 0.0f, 1.0f);
-  const float low = 0.5f * alpha;
-  return t == t ? low + (1.0f - low) * t : alpha;
+  return temporal_weight(0.5f * alpha, disagreement(lum(u.sample), lum(shown), sigma));
 }
 
 // Samples after which a pixel's running mean has lower variance than the exponential blend

@@ -9,6 +9,7 @@
 #include "frameless/engine_impl.h"
 #include "frameless/pixel_levels.h"
 #include "frameless/running_stats.h"
+#include "frameless/temporal_weight.h"
 #include "frameless/tile_render.h"
 
 namespace frameless {
@@ -19,11 +20,6 @@ constexpr uint64_t kSeedSalt = 0x6672616d656c6573ull;  // separates engine sampl
 // Frameless antialiasing (Scher Zagier): four strata of the pixel (2x2); each update samples a
 // diagonal pair, alternating, so a pixel is fully covered after two updates.
 constexpr int kStrata[2][2] = {{0, 3}, {1, 2}};
-
-// A sample this far (in standard deviations of the pixel's luminance, plus a small absolute
-// floor) from the running mean means the content moved: the statistics restart.
-constexpr double kMotionSigmas = 3.0;
-constexpr double kMotionFloor = 0.02;
 
 // Where and with which random stream the samples of one pixel update look: 1 or 2 samples
 // (frameless antialiasing), fixed by the pixel's update count.
@@ -92,22 +88,23 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   const bool variance = tracks_variance(e.cfg) || world;
   if (same_epoch && variance) m2 = p.m2.load(std::memory_order_relaxed);
   if (world && count > 0) {
-    // Something moves: a sample far outside the pixel's spread restarts its statistics, and
-    // the count saturates at motion_history, so the mean forgets (an exponential average).
-    const double lum_mean = luminance(mean[0], mean[1], mean[2]);
+    // Something moves: the display's temporal rule (frameless/temporal_weight.h) sets how much
+    // history the pixel keeps. Where the sample agrees, a long one: at most motion_history
+    // samples, so the mean forgets (an exponential average); where it clearly differs, none (the
+    // statistics restart); shorter in between. The variance shrinks to the same window.
     const Vec3& s = colors[0];
-    const double dev = std::fabs(luminance(s.x, s.y, s.z) - lum_mean);
     const double sigma = count > 1 ? std::sqrt(m2 / double(count - 1)) : 0.0;
-    if (count >= 4 && dev > kMotionSigmas * sigma + kMotionFloor * std::max(1.0, lum_mean)) {
-      count = 0;
+    const float t = disagreement(float(luminance(s.x, s.y, s.z)),
+                                 float(luminance(mean[0], mean[1], mean[2])), float(sigma));
+    const uint32_t window = std::max(1u, uint32_t(e.cfg.motion_history) - uint32_t(valid));
+    const uint32_t keep = history_for_weight(temporal_weight(1.0f / float(std::min(count, window) + 1), t), count);
+    if (keep == 0) {
       m2 = 0.0;
       for (double& m : mean) m = 0.0;
-    } else if (count + uint32_t(valid) > uint32_t(e.cfg.motion_history)) {
-      // Room for this update's samples; the variance estimate shrinks to the same window.
-      const uint32_t keep = std::max(1u, uint32_t(e.cfg.motion_history) - uint32_t(valid));
+    } else if (keep < count) {
       m2 *= double(keep) / double(count);
-      count = keep;
     }
+    count = keep;
   }
   Vec3 sum(0.0f);
   for (int k = 0; k < valid; ++k) {
