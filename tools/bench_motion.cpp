@@ -38,6 +38,11 @@ const bool registered = register_command(
       app.add_option("--update-percents", args->percents,
                      "Update percentages to compare (default 0.1,1,10)")
           ->delimiter(',');
+      app.add_option("--sample-fractions", args->sample_fractions,
+                     "Also run reprojection + temporal weights capped at these fractions of "
+                     "conventional's samples/s: the samples needed for its error (default "
+                     "0.5,0.25,0.125; 0 runs none)")
+          ->delimiter(',');
       app.add_option("--alpha", args->alpha,
                      "Default frameless alpha: the headline setting (default 0.5)");
       app.add_option("--update-percent", args->percent, "Default update percentage (default 1)");

@@ -40,7 +40,12 @@ int run_motion(const MotionOptions& options) {
     a.alphas = {0.5, 1.0};
     a.percents = {1, 10};
     a.repeats = 1;
+    a.sample_fractions = {0.25};
   }
+  a.sample_fractions.erase(std::remove(a.sample_fractions.begin(), a.sample_fractions.end(), 0.0),
+                           a.sample_fractions.end());
+  for (double f : a.sample_fractions)
+    if (!(f > 0 && f <= 1)) return report_error("--sample-fractions: each must be in (0, 1] (0: none)");
   int width = 0, height = 0;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
@@ -142,7 +147,7 @@ int run_motion(const MotionOptions& options) {
     // "budget": reprojection kept within 18 % of one core (the display thread within 25 %, bench engine).
     static const char* const kVariants[] = {"reproject", "reproject+temporal", "temporal",
                                             "closed-loop", "reproject+temporal+closed-loop",
-                                            "reproject+temporal+budget"};
+                                            "reproject+temporal+budget", "reproject+temporal+adaptive"};
     for (const char* variant : kVariants) {
       const std::string v = variant;
       RunRow r;
@@ -154,6 +159,7 @@ int run_motion(const MotionOptions& options) {
       r.mode.display.blend.temporal = v.find("temporal") != std::string::npos;
       r.mode.engine.closed_loop = v.find("closed-loop") != std::string::npos;
       if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = 0.18f;
+      r.mode.engine.adaptive.enabled = v.find("adaptive") != std::string::npos;
       r.mode.engine.update_percent = a.percent;
       r.alpha = a.alpha;
       r.percent = a.percent;
@@ -211,6 +217,38 @@ int run_motion(const MotionOptions& options) {
         if (rep == 0) r.result = std::move(res);
       }
     }
+    // Equal error at fewer samples: the headline motion settings capped at fractions of
+    // conventional's measured samples/s (its first repeat), after the runs that measured it.
+    const size_t capped_first = rows.size();
+    double conv_rate = 0;
+    for (const RunRow& r : rows)
+      if (r.mode.kind == "conventional") conv_rate = r.result.samples_per_s;
+    if (conv_rate > 0)
+      for (double f : a.sample_fractions) {
+        RunRow r;
+        r.mode = base;
+        r.mode.kind = "reproject+temporal capped";
+        r.mode.name = "frameless reproject+temporal at " + csv_number(f) + "x conventional's samples";
+        r.mode.display.blend.alpha = float(a.alpha);
+        r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
+        r.mode.engine.update_percent = a.percent;
+        r.mode.engine.max_samples_per_s = f * conv_rate;
+        r.alpha = a.alpha;
+        r.percent = f;  // the fraction (CSV column update_percent holds it for these rows)
+        rows.push_back(r);
+      }
+    for (int rep = 0; rep < a.repeats; ++rep)
+      for (size_t k = capped_first; k < rows.size(); ++k) {
+        RunRow& r = rows[k];
+        bench_progress("motion", r.mode.name + " (repeat " + std::to_string(rep + 1) + ")");
+        LiveResult res = run_live(*scene, r.mode, sched);
+        r.avg_rmse += time_average(res.ticks, t0, t1, &TickRecord::rmse) / a.repeats;
+        r.avg_rmse_debiased += time_average(res.ticks, t0, t1, &TickRecord::rmse_debiased) / a.repeats;
+        r.avg_rel_mse += time_average(res.ticks, t0, t1, &TickRecord::rel_mse) / a.repeats;
+        r.tail_rmse += time_average(res.ticks, t1, sched.duration, &TickRecord::rmse) / a.repeats;
+        r.per_repeat.push_back(time_average(res.ticks, t0, t1, &TickRecord::rmse));
+        if (rep == 0) r.result = std::move(res);
+      }
     for (RunRow& r : rows) {
       dat += "# " + r.mode.name + "\n";
       for (const TickRecord& t : r.result.ticks) {
@@ -250,6 +288,7 @@ int run_motion(const MotionOptions& options) {
                        {"mean_noise_rmse", std::sqrt(noise_sum / double(refs.size()))},
                        {"cache_dir", cache}};
     const RunRow* best = nullptr;
+    std::string equal_error_line;
     nlohmann::json table = nlohmann::json::array();
     for (const RunRow& r : rows) {
       table.push_back({{"run", r.mode.name},
@@ -295,6 +334,53 @@ int run_motion(const MotionOptions& options) {
         "the default setting: " + fl.mode.name + " (best frameless setting under frameless_best)";
     j["frameless_best"] = {{"run", best->mode.name}, {"time_avg_rmse", best->avg_rmse}};
     j["runs"] = table;
+    // Each mode at its best setting (equal compute: all threads, no sample cap), and the
+    // defaults: fair settings for the headline.
+    const RunRow* best_any = nullptr;
+    for (size_t k = 0; k < capped_first; ++k) {
+      const RunRow& r = rows[k];
+      if (r.mode.kind == "conventional" || r.mode.engine.threads != threads) continue;
+      if (!best_any || r.avg_rmse < best_any->avg_rmse) best_any = &r;
+    }
+    if (conv && best_any) {
+      j["best_per_mode"] = {
+          {"conventional", {{"run", conv->mode.name}, {"time_avg_rmse", conv->avg_rmse}}},
+          {"frameless_plain", {{"run", best->mode.name}, {"time_avg_rmse", best->avg_rmse}}},
+          {"frameless_any", {{"run", best_any->mode.name}, {"time_avg_rmse", best_any->avg_rmse}}},
+          {"default_frameless_ratio", fl.avg_rmse / conv->avg_rmse},
+          {"best_frameless_ratio", best_any->avg_rmse / conv->avg_rmse}};
+    }
+    // Samples for equal error: the capped runs' RMSE against their fraction, and the fraction
+    // where it meets conventional's RMSE (log-log interpolation between the bracketing runs).
+    if (conv && rows.size() > capped_first) {
+      std::vector<std::pair<double, double>> curve;  // (fraction, rmse), the full rate first
+      for (const RunRow& r : rows)
+        if (r.mode.kind == "reproject+temporal") curve.push_back({1.0, r.avg_rmse});
+      for (size_t k = capped_first; k < rows.size(); ++k) curve.push_back({rows[k].percent, rows[k].avg_rmse});
+      std::sort(curve.begin(), curve.end(), [](auto& x, auto& y) { return x.first > y.first; });
+      nlohmann::json points = nlohmann::json::array();
+      for (const auto& [f, e] : curve) points.push_back({{"fraction", f}, {"time_avg_rmse", e}});
+      nlohmann::json at = nullptr;
+      std::string note = "frameless's error stays below conventional's down to the smallest fraction run";
+      for (size_t k = 0; k + 1 < curve.size(); ++k) {
+        const auto [f0, e0] = curve[k];
+        const auto [f1, e1] = curve[k + 1];
+        if (e0 <= conv->avg_rmse && e1 > conv->avg_rmse) {
+          const double u = std::log(conv->avg_rmse / e0) / std::log(e1 / e0);
+          at = std::exp(std::log(f0) + u * (std::log(f1) - std::log(f0)));
+          note = "interpolated between the runs at " + csv_number(f0) + " and " + csv_number(f1);
+          break;
+        }
+      }
+      if (!curve.empty() && curve.front().second > conv->avg_rmse) note = "frameless needs more samples";
+      j["equal_error_samples"] = {{"conventional_rmse", conv->avg_rmse},
+                                  {"runs", points},
+                                  {"fraction_at_equal_error", at},
+                                  {"note", note}};
+      equal_error_line = at.is_null() ? note + " (" + csv_number(curve.back().first) + "x: RMSE " +
+                                            csv_number(curve.back().second) + ")"
+                                      : csv_number(at.get<double>()) + "x conventional's samples (" + note + ")";
+    }
 
     if (!write_text_atomic(a.out + "/motion.csv", csv.text(), error) ||
         !write_text_atomic(a.out + "/motion.dat", dat, error))
@@ -347,6 +433,14 @@ int run_motion(const MotionOptions& options) {
                   conv && r.avg_rmse > 0 && &r != conv
                       ? (" " + csv_number(r.avg_rmse / conv->avg_rmse) + "x conventional").c_str()
                       : "");
+    if (j.contains("best_per_mode"))
+      std::printf("  best setting: %s at %.3fx conventional (plain frameless at the default alpha and "
+                  "update %%: %.3fx; view and capture default to reprojection + temporal weights)\n",
+                  j["best_per_mode"]["frameless_any"]["run"].get<std::string>().c_str(),
+                  j["best_per_mode"]["best_frameless_ratio"].get<double>(),
+                  j["best_per_mode"]["default_frameless_ratio"].get<double>());
+    if (!equal_error_line.empty())
+      std::printf("  samples for conventional's error: %s\n", equal_error_line.c_str());
     std::printf("  wrote %s/motion.json\n", a.out.c_str());
   } catch (const std::exception& ex) {
     return report_error(ex.what());

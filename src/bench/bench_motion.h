@@ -29,6 +29,10 @@ struct MotionOptions {
   double percent = 1;
   int ref_spp = 32;
   int repeats = 2;
+  // The headline motion settings (reprojection + temporal weights) again with their samples
+  // capped at these fractions of conventional's measured samples/s: the samples frameless needs
+  // for the error of double buffering. Empty: skipped.
+  std::vector<double> sample_fractions = {0.5, 0.25, 0.125};
   bool quick = false;
 };
 

@@ -23,6 +23,8 @@ std::string validate(const EngineConfig& c) {
   if (!(c.update_percent >= 0.01 && c.update_percent <= 100.0))
     return "update_percent: must be 0.01..100";
   if (std::string a = validate(c.adaptive); !a.empty()) return a;
+  if (!(c.max_samples_per_s >= 0.0 && c.max_samples_per_s < 1e12))
+    return "max_samples_per_s: must be 0 (no limit) or positive";
   if (c.motion_history < 2 || c.motion_history > 65536) return "motion_history: must be 2..65536";
   if (c.owned_count >= 0) {
     if (c.threads < 1) return "owned_count: needs an explicit thread count";

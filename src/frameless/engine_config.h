@@ -69,6 +69,10 @@ struct EngineConfig {
   // Closed-loop sampling (frameless/closed_loop.h): render threads interleave the runs of pixels
   // the display asks for (reprojection's guesses, fast-changing colours) with their walk.
   bool closed_loop = false;
+  // Frameless, wall clock: all render threads together trace at most this many samples a second
+  // (each thread sleeps when ahead of its share); 0: as fast as they can. For measuring error
+  // against sample rate (bench motion) and for leaving CPU to other work.
+  double max_samples_per_s = 0.0;
   // Cluster (src/cluster): this process renders only threads [owned_first, owned_first +
   // owned_count) of the `threads`-thread partition; the other threads' pixels are rendered by
   // other processes and arrive through Engine::ingest() (frameless) or ingest_piece()

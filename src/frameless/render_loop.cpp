@@ -2,6 +2,8 @@
 // publish), the frameless walking loop and the conventional job loop. The per-sample path holds
 // no lock, allocates nothing and makes no system call.
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cmath>
 
 #include "core/rng.h"
@@ -336,9 +338,21 @@ void frameless_thread_main(Engine::Impl& e, int t) {
     const uint64_t cpu0 = thread_cpu_ns();
     ThreadCounters& ctr = e.counters[t];
     // Busy time for the balance statistics: one clock read per 64 batches keeps it off the hot path.
+    // A sample-rate cap: this thread's share of it, as the time its samples so far should take.
+    const int spu = e.cfg.jitter ? 2 : 1;
+    const double share = e.cfg.max_samples_per_s / double(std::max<size_t>(1, e.workers.size()));
+    const auto start = std::chrono::steady_clock::now();
     for (uint64_t batch = 1; !e.stop_flag.load(std::memory_order_relaxed); ++batch) {
       frameless_run(e, w, kBatch, e.now(), 0.0);
       if (batch % 64 == 0) ctr.busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
+      if (share > 0.0 && batch % 4 == 0) {
+        const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(double(batch * kBatch * uint64_t(spu)) / share));
+        // In slices of at most 20 ms, so a stop is seen soon whatever the cap.
+        while (due > std::chrono::steady_clock::now() + std::chrono::milliseconds(1) &&
+               !e.stop_flag.load(std::memory_order_relaxed))
+          std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(20)));
+      }
     }
     ctr.busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
   } catch (const std::exception& ex) {
