@@ -56,6 +56,7 @@ struct FramelessWorker {
   // Closed-loop sampling: the runs (list positions of their first pixel) asked for and not yet
   // rendered, served front to back, and the generation of the display's asks last scanned.
   std::vector<uint32_t> asked;
+  std::vector<float> asked_time;  // engine seconds when each was queued
   size_t asked_next = 0;
   uint64_t asked_generation = 0;
 };

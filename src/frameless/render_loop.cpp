@@ -212,11 +212,12 @@ void refresh_camera(Engine::Impl& e, uint32_t& epoch, CameraBasis& basis) {
 
 // Closed-loop sampling: after the display asked for more runs, queue this thread's (their flags
 // are cleared as they are queued; the display may ask again later).
-void scan_asked(Engine::Impl& e, FramelessWorker& w) {
+void scan_asked(Engine::Impl& e, FramelessWorker& w, float now) {
   const uint64_t generation = e.wanted.generation.load(std::memory_order_acquire);
   if (generation == w.asked_generation) return;
   w.asked_generation = generation;
   w.asked.erase(w.asked.begin(), w.asked.begin() + std::ptrdiff_t(w.asked_next));
+  w.asked_time.erase(w.asked_time.begin(), w.asked_time.begin() + std::ptrdiff_t(w.asked_next));
   w.asked_next = 0;
   const size_t first = w.first_slot, end = first + w.pixels->size();
   if (end == first) return;
@@ -225,6 +226,7 @@ void scan_asked(Engine::Impl& e, FramelessWorker& w) {
     if (!f.load(std::memory_order_relaxed)) continue;
     f.store(0, std::memory_order_relaxed);
     w.asked.push_back(uint32_t(std::max(r * kRunLength, first) - first));
+    w.asked_time.push_back(now);
   }
 }
 
@@ -233,8 +235,20 @@ void scan_asked(Engine::Impl& e, FramelessWorker& w) {
 uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, double t, double dt,
                      uint64_t budget) {
   const std::vector<uint32_t>& list = *w.pixels;
-  const size_t pos0 = w.asked[w.asked_next++];
-  const size_t len = std::min<size_t>({kRunLength, list.size() - pos0, size_t(budget)});
+  size_t pos0 = 0, len = 0;
+  // Runs whose pixels were all updated since the ask was queued (the walk got there first) are
+  // dropped: the display asked for a newer sample, and it has one.
+  while (w.asked_next < w.asked.size()) {
+    const float asked_at = w.asked_time[w.asked_next];
+    pos0 = w.asked[w.asked_next++];
+    len = std::min<size_t>({kRunLength, list.size() - pos0, size_t(budget)});
+    bool since = true;  // every pixel of the run updated since it was queued
+    for (size_t k = 0; k < len && since; ++k)
+      since = e.states[w.first_slot + pos0 + k].time.load(std::memory_order_relaxed) > asked_at;
+    if (!since) break;
+    len = 0;
+  }
+  if (len == 0) return 0;
   PacketBatch b;
   for (size_t k = 0; k < len; ++k) {
     b.idx[b.n] = list[pos0 + k];
@@ -265,6 +279,7 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
   if (n == 0) return;
   ThreadCounters& ctr = e.counters[w.index];
   const bool closed_loop = e.wanted.runs != 0;
+  const size_t chunk = size_t(std::max(1, e.cfg.chunk_size));
   PacketBatch b;
   constexpr int kMaxEntries = 64;
   int8_t entries[kMaxEntries];  // visit order: a batch slot, or -1 for an adaptive skip
@@ -290,9 +305,12 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
       w.countdown = w.interval;
       refresh_camera(e, w.epoch, w.basis);
       refresh_world(e, w, t_begin + dt * double(i));
-      if (closed_loop) scan_asked(e, w);
+      if (closed_loop) scan_asked(e, w, float(t_begin + dt * double(i)));
     }
     const size_t pos = w.pos;
+    // A packet never spans two chunks (they lie far apart in the image once shuffled): adaptive
+    // skips shift the batches off the chunk grid, and straddling packets cost several times more.
+    if (b.n > 0 && pos % chunk == 0) flush();
     const uint32_t idx = list[pos];
     PixelState& p = e.states[w.first_slot + pos];
     const bool wrapped = ++w.pos == n;
