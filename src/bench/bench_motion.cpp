@@ -228,7 +228,7 @@ int run_motion(const MotionOptions& options) {
         RunRow r;
         r.mode = base;
         r.mode.kind = "reproject+temporal capped";
-        r.mode.name = "frameless reproject+temporal at " + csv_number(f) + "x conventional's samples";
+        r.mode.name = "frameless reproject+temporal at " + csv_number(f) + "x the samples of conventional";
         r.mode.display.blend.alpha = float(a.alpha);
         r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
         r.mode.engine.update_percent = a.percent;
@@ -411,7 +411,7 @@ int run_motion(const MotionOptions& options) {
       const bool key = k == 0 || rows[k].mode.kind != "frameless";
       body += (k ? ", " : "") + std::string("'") + a.out + "/motion.dat' index " +
               std::to_string(k) + " using 1:2 with lines lt " + std::to_string(k + 1) + " lw " +
-              (key ? "2.5" : "1") + " title '" + rows[k].mode.name + "'";
+              (key ? "2.5" : "1") + " title '" + gnuplot_text(rows[k].mode.name) + "'";
     }
     body +=
         "\nunset arrow\nset title 'Time-averaged RMSE during the move'\nset xlabel ''\nset ylabel "

@@ -192,6 +192,12 @@ bool gnuplot_found() {
   return false;
 }
 
+std::string gnuplot_text(const std::string& text) {
+  std::string out;
+  for (const char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out;
+}
+
 bool plot_png(const std::string& dir, const std::string& name, int width, int height,
               const std::string& body, std::string& error, bool* png_written) {
   if (png_written) *png_written = false;

@@ -38,6 +38,9 @@ struct CsvTable {
 };
 std::string csv_number(double v);  // %.6g; "nan"/"inf" spelled out; used for JSON-less tables too
 
+// `text` for a single-quoted gnuplot string (a quote is doubled), e.g. a run's name as a title.
+std::string gnuplot_text(const std::string& text);
+
 // Writes DIR/NAME.gp (pngcairo terminal and output lines are added here, `body` holds the rest)
 // and runs gnuplot on it, producing DIR/NAME.png. Without gnuplot it prints one message naming
 // the script and returns true (the benchmark still succeeds); false only if a file cannot be
