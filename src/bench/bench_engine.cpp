@@ -199,7 +199,7 @@ int run_engine(const EngineBenchOptions& a) {
       cpu_still_reproject.push_back(still_cache.cpu_fraction);
       cpu_moving.push_back(moving.cpu_fraction);
       cpu_reproject.push_back(cache.cpu_fraction);
-      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, 0.18f);
+      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, 0.15f);
       cpu_budget.push_back(budget.cpu_fraction);
       reproj_rate_budget.push_back(budget.reprojections_per_s);
       cpu_reproject_part.push_back(cache.reproject_fraction);
@@ -273,7 +273,7 @@ int run_engine(const EngineBenchOptions& a) {
                   "(%.2f%% reprojecting, %.1f reprojections/s); still camera with reprojection on %.2f%%\n",
                   100.0 * median(cpu_moving), 100.0 * median(cpu_reproject),
                   100.0 * median(cpu_reproject_part), median(reproj_rate), 100.0 * median(cpu_still_reproject));
-      std::printf("  with a reprojection budget of 18%% of a core (--reproject-budget 0.18): %.2f%% of one "
+      std::printf("  with a reprojection budget of 15%% of a core (--reproject-budget 0.15): %.2f%% of one "
                   "core, %.1f reprojections/s\n",
                   100.0 * median(cpu_budget), median(reproj_rate_budget));
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
