@@ -21,6 +21,10 @@ void EngineFlags::add_to(CLI::App& app) {
                  "most of one core the display spends reprojecting, 0..1 (0: unlimited; a change "
                  "over budget merges into the next)")
       ->capture_default_str();
+  app.add_option("--max-samples-per-s", max_samples_per_s,
+                 "frameless: render threads trace at most this many samples a second together "
+                 "(0: as fast as they can)")
+      ->capture_default_str();
   app.add_flag("--temporal,!--no-temporal", temporal,
                "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they "
                "differ (default on)");
@@ -48,6 +52,10 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
     error = "--reproject-budget: must be in [0, 1]";
     return false;
   }
+  if (!(max_samples_per_s >= 0.0 && max_samples_per_s < 1e12)) {
+    error = "--max-samples-per-s: must be 0 (no cap) or positive";
+    return false;
+  }
   e.mode = *parsed;
   e.threads = threads > 0 ? threads : hardware_threads();
   e.chunk_size = chunk;
@@ -61,6 +69,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   blend.time_decay = time_decay;
   blend.reproject = reproject;
   blend.reproject_budget = reproject_budget;
+  e.max_samples_per_s = max_samples_per_s;
   blend.temporal = temporal;
   return true;
 }

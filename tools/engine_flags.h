@@ -23,6 +23,7 @@ struct EngineFlags {
   bool temporal = true;
   bool closed_loop = false;
   float reproject_budget = 0.0f;  // share of one core for reprojection (0: unlimited)
+  double max_samples_per_s = 0.0; // frameless sample-rate cap (0: none)
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;
