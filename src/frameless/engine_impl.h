@@ -36,6 +36,7 @@ struct FramelessWorker {
   const std::vector<uint32_t>* pixels = nullptr;  // its pixels in visiting order
   size_t first_slot = 0;       // state of (*pixels)[i] is states[first_slot + i]
   size_t pos = 0;              // next position in *pixels
+  size_t chunk_left = 0;       // visits left in the walk's current chunk (0: pos starts one)
   uint64_t updates = 0;        // pixel visits since start
   uint64_t interval = 1;       // visits between camera checks
   uint64_t countdown = 1;      // visits until the next camera check (staggered at start)

@@ -64,13 +64,16 @@ Partition make_partition(const PartitionConfig& c) {
   for (size_t k = 0; k < chunks; ++k) starts[k % size_t(threads)].push_back(k * chunk);
 
   p.pixels.resize(size_t(threads));
+  p.short_chunk_at.assign(size_t(threads), SIZE_MAX);
   for (int t = 0; t < threads; ++t) {
     auto& mine = starts[size_t(t)];
     if (c.order == PixelOrder::hilbert_shuffled) shuffle(mine, mix64(c.seed + 0x1000u * uint64_t(t + 1)));
     auto& out = p.pixels[size_t(t)];
     out.reserve(mine.size() * chunk);
-    for (size_t s : mine)
+    for (size_t s : mine) {
+      if (s + chunk > n) p.short_chunk_at[size_t(t)] = out.size();
       for (size_t i = s; i < std::min(n, s + chunk); ++i) out.push_back(line[i]);
+    }
   }
   return p;
 }

@@ -36,6 +36,15 @@ struct Partition {
   int height = 0;
   int chunk_size = 0;
   std::vector<std::vector<uint32_t>> pixels;
+  // Per thread: the list position of its chunk that is shorter than chunk_size (the line's last,
+  // when chunk_size does not divide the pixel count), or SIZE_MAX. Every other chunk of a list
+  // starts at a multiple of chunk_size before it, or at one past it shifted by its length.
+  std::vector<size_t> short_chunk_at;
+  // The number of pixels in chunk starting at `pos` of thread t's list.
+  size_t chunk_length(int t, size_t pos) const {
+    const size_t n = size_t(width) * size_t(height), c = size_t(chunk_size);
+    return pos == short_chunk_at[size_t(t)] ? n % c : c;
+  }
 };
 
 Partition make_partition(const PartitionConfig& config);

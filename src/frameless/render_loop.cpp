@@ -267,12 +267,6 @@ uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, d
   return len;
 }
 
-// Whether pixels a and b (indices y * width + x) are more than `reach` apart in x or y.
-inline bool far_apart(uint32_t a, uint32_t b, uint32_t width, uint32_t reach) {
-  const uint32_t ax = a % width, ay = a / width, bx = b % width, by = b / width;
-  return (ax > bx ? ax - bx : bx - ax) > reach || (ay > by ? ay - by : by - ay) > reach;
-}
-
 // The frameless walk over a thread's pixel list: up to PacketBatch::kMax consecutive visits are
 // gathered in order, traced together, then published in order, adaptive skips included, so every
 // counter and pixel sees the sequence of a one-by-one walk. A batch ends before a camera or world
@@ -285,9 +279,6 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
   if (n == 0) return;
   ThreadCounters& ctr = e.counters[w.index];
   const bool closed_loop = e.wanted.runs != 0;
-  const uint32_t width = uint32_t(e.partition.width);
-  // A chunk's pixels lie within about its square root of each other (Hilbert curve pieces).
-  const uint32_t reach = uint32_t(std::ceil(std::sqrt(double(std::max(1, e.cfg.chunk_size))))) + 1;
   PacketBatch b;
   constexpr int kMaxEntries = 64;
   int8_t entries[kMaxEntries];  // visit order: a batch slot, or -1 for an adaptive skip
@@ -317,11 +308,14 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
     }
     const size_t pos = w.pos;
     const uint32_t idx = list[pos];
-    // A packet never spans two chunks, which lie far apart in the image once shuffled. Adaptive
-    // skips shift the batches off the chunk grid, and a straddling packet costs several times
-    // more. A jump of more than a chunk's width along the walk is a chunk boundary, whether or
-    // not the image's last, partial chunk has shifted the grid.
-    if (b.n > 0 && far_apart(b.idx[b.n - 1], idx, width, reach)) flush();
+    // A packet never spans two chunks, which lie far apart in the image once shuffled: adaptive
+    // skips and asked runs shift the batches off the chunk grid, and a straddling packet costs
+    // several times more. A countdown, not a division per visit, finds the chunk starts.
+    if (w.chunk_left == 0) {
+      if (b.n > 0) flush();
+      w.chunk_left = e.partition.chunk_length(w.index, pos);
+    }
+    --w.chunk_left;
     PixelState& p = e.states[w.first_slot + pos];
     const bool wrapped = ++w.pos == n;
     if (wrapped) w.pos = 0;

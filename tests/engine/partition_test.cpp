@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 
 namespace frameless {
@@ -36,6 +38,35 @@ TEST(Partition, BalancedDisjointCover) {
           EXPECT_EQ(problems(p, chunk), "") << to_string(order) << " " << w << "x" << h << " t"
                                             << threads << " c" << chunk;
         }
+}
+
+// The render loop ends a packet at each chunk start, found by walking chunk lengths: they must
+// tile every list exactly, and each chunk must be a run of the Hilbert line (consecutive pixels
+// of one unshuffled chunk sit next to each other in the image).
+TEST(Partition, ChunkLengthsTileEveryList) {
+  for (auto [w, h] : {std::pair{7, 3}, {64, 64}, {333, 77}, {200, 150}})
+    for (int threads : {1, 2, 3, 7})
+      for (int chunk : {1, 5, 64}) {
+        const Partition p = make_partition({w, h, threads, chunk, PixelOrder::hilbert_shuffled, 42});
+        int short_chunks = 0;
+        for (int t = 0; t < threads; ++t) {
+          const auto& list = p.pixels[size_t(t)];
+          size_t pos = 0;
+          while (pos < list.size()) {
+            const size_t len = p.chunk_length(t, pos);
+            ASSERT_GT(len, 0u);
+            short_chunks += len < size_t(chunk);
+            for (size_t k = pos + 1; k < pos + len && k < list.size(); ++k) {
+              const int dx = int(list[k] % uint32_t(w)) - int(list[k - 1] % uint32_t(w));
+              const int dy = int(list[k] / uint32_t(w)) - int(list[k - 1] / uint32_t(w));
+              ASSERT_LE(std::abs(dx) + std::abs(dy), 2) << w << "x" << h << " c" << chunk;
+            }
+            pos += len;
+          }
+          EXPECT_EQ(pos, list.size()) << w << "x" << h << " t" << threads << " c" << chunk;
+        }
+        EXPECT_EQ(short_chunks, (w * h) % chunk != 0 ? 1 : 0) << w << "x" << h << " c" << chunk;
+      }
 }
 
 TEST(Partition, ShuffleIsSeededAndChangesOrder) {
