@@ -506,8 +506,9 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   const Camera camera = engine.camera(&epoch);
   if (epoch == reproject_epoch) return false;  // a still camera is never reprojected
   // Over budget: this change merges into a later one (deterministic runs ignore the clock).
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  if (reproject_epoch != 0 && !engine.config().deterministic && !reproject_budget.allow(wall, budget))
+  if (budget > 0.0f && reproject_epoch != 0 && !engine.config().deterministic &&
+      !reproject_budget.allow(
+          std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(), budget))
     return false;
   const bool first = reproject_epoch == 0;
   reproject_epoch = epoch;

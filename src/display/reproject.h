@@ -105,12 +105,14 @@ class Reprojector {
   // How disocclusions find the farthest content near them: one window per hole, or by rows
   // (cheaper for many holes); automatic picks by the number of holes. Both give the same image.
   enum class Search { automatic, window, rows };
-  void set_search(Search s) { separable_ = s; }
+  void set_search(Search s) { search_ = s; }
 
  private:
-  void farthest_by_rows(int w, int h, int r);
-  Search separable_ = Search::automatic;
-  std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_by_rows' scratch
+  uint32_t farther(uint32_t a, uint32_t b) const;
+  uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
+  uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
+  Search search_ = Search::automatic;
+  std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_in_rows' scratch
   std::vector<uint8_t> row_done_;
   std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far
   std::vector<uint32_t> source_; // by pixel: the pixel of `from` it shows (kNone: a hole)
