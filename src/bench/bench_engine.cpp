@@ -199,7 +199,7 @@ int run_engine(const EngineBenchOptions& a) {
       cpu_still_reproject.push_back(still_cache.cpu_fraction);
       cpu_moving.push_back(moving.cpu_fraction);
       cpu_reproject.push_back(cache.cpu_fraction);
-      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, 0.15f);
+      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, kBenchReprojectBudget);
       cpu_budget.push_back(budget.cpu_fraction);
       reproj_rate_budget.push_back(budget.reprojections_per_s);
       cpu_reproject_part.push_back(cache.reproject_fraction);

@@ -21,6 +21,7 @@ namespace {
 struct RunRow {
   LiveMode mode;
   double alpha = 0, percent = 0;
+  double sample_fraction = 1;  // render threads capped at this fraction of conventional's samples/s
   LiveResult result;
   double avg_rmse = 0, avg_rmse_debiased = 0, avg_rel_mse = 0, tail_rmse = 0;
   std::vector<double> per_repeat;  // time-averaged RMSE of each repeat
@@ -140,6 +141,20 @@ int run_motion(const MotionOptions& options) {
       r.percent = p;
       rows.push_back(r);
     };
+    // The headline motion settings (reprojection + temporal weights) at the default alpha and
+    // update percent; the equal-error rows vary threads or the sample cap.
+    auto motion_row = [&](const std::string& kind, const std::string& name) {
+      RunRow r;
+      r.mode = base;
+      r.mode.kind = kind;
+      r.mode.name = name;
+      r.mode.display.blend.alpha = float(a.alpha);
+      r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
+      r.mode.engine.update_percent = a.percent;
+      r.alpha = a.alpha;
+      r.percent = a.percent;
+      return r;
+    };
     add_frameless(a.alpha, a.percent);  // the default setting first
     for (double al : a.alphas) add_frameless(al, a.percent);
     for (double p : a.percents) add_frameless(a.alpha, p);
@@ -158,7 +173,7 @@ int run_motion(const MotionOptions& options) {
       r.mode.display.blend.reproject = v.find("reproject") != std::string::npos;
       r.mode.display.blend.temporal = v.find("temporal") != std::string::npos;
       r.mode.engine.closed_loop = v.find("closed-loop") != std::string::npos;
-      if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = 0.15f;
+      if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = kBenchReprojectBudget;
       r.mode.engine.adaptive.enabled = v.find("adaptive") != std::string::npos;
       r.mode.engine.update_percent = a.percent;
       r.alpha = a.alpha;
@@ -168,17 +183,10 @@ int run_motion(const MotionOptions& options) {
     // Equal error at fewer samples: the headline motion settings on half the render threads,
     // against double buffering on all of them.
     if (threads >= 2) {
-      RunRow r;
-      r.mode = base;
-      r.mode.kind = "reproject+temporal half-threads";
-      r.mode.name = "frameless reproject+temporal " + std::to_string(threads / 2) + " of " +
-                    std::to_string(threads) + " threads";
+      RunRow r = motion_row("reproject+temporal half-threads", "frameless reproject+temporal " +
+                                                                   std::to_string(threads / 2) + " of " +
+                                                                   std::to_string(threads) + " threads");
       r.mode.engine.threads = threads / 2;
-      r.mode.display.blend.alpha = float(a.alpha);
-      r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
-      r.mode.engine.update_percent = a.percent;
-      r.alpha = a.alpha;
-      r.percent = a.percent;
       rows.push_back(r);
     }
     RunRow cv;
@@ -204,19 +212,22 @@ int run_motion(const MotionOptions& options) {
     std::string dat;
     // Repeats interleave the settings, so a change in the machine's load hits all of them alike;
     // time averages are means over repeats, the curves and CSV come from the first repeat.
-    for (int rep = 0; rep < a.repeats; ++rep) {
-      for (RunRow& r : rows) {
-        bench_progress("motion", r.mode.name + " (repeat " + std::to_string(rep + 1) + ")");
-        LiveResult res = run_live(*scene, r.mode, sched);
-        const auto& ticks = res.ticks;
-        r.avg_rmse += time_average(ticks, t0, t1, &TickRecord::rmse) / a.repeats;
-        r.avg_rmse_debiased += time_average(ticks, t0, t1, &TickRecord::rmse_debiased) / a.repeats;
-        r.avg_rel_mse += time_average(ticks, t0, t1, &TickRecord::rel_mse) / a.repeats;
-        r.tail_rmse += time_average(ticks, t1, sched.duration, &TickRecord::rmse) / a.repeats;
-        r.per_repeat.push_back(time_average(ticks, t0, t1, &TickRecord::rmse));
-        if (rep == 0) r.result = std::move(res);
-      }
-    }
+    auto run_rows = [&](size_t first) {
+      for (int rep = 0; rep < a.repeats; ++rep)
+        for (size_t k = first; k < rows.size(); ++k) {
+          RunRow& r = rows[k];
+          bench_progress("motion", r.mode.name + " (repeat " + std::to_string(rep + 1) + ")");
+          LiveResult res = run_live(*scene, r.mode, sched);
+          const auto& ticks = res.ticks;
+          r.avg_rmse += time_average(ticks, t0, t1, &TickRecord::rmse) / a.repeats;
+          r.avg_rmse_debiased += time_average(ticks, t0, t1, &TickRecord::rmse_debiased) / a.repeats;
+          r.avg_rel_mse += time_average(ticks, t0, t1, &TickRecord::rel_mse) / a.repeats;
+          r.tail_rmse += time_average(ticks, t1, sched.duration, &TickRecord::rmse) / a.repeats;
+          r.per_repeat.push_back(time_average(ticks, t0, t1, &TickRecord::rmse));
+          if (rep == 0) r.result = std::move(res);
+        }
+    };
+    run_rows(0);
     // Equal error at fewer samples: the headline motion settings capped at fractions of
     // conventional's measured samples/s (its first repeat), after the runs that measured it.
     const size_t capped_first = rows.size();
@@ -225,30 +236,13 @@ int run_motion(const MotionOptions& options) {
       if (r.mode.kind == "conventional") conv_rate = r.result.samples_per_s;
     if (conv_rate > 0)
       for (double f : a.sample_fractions) {
-        RunRow r;
-        r.mode = base;
-        r.mode.kind = "reproject+temporal capped";
-        r.mode.name = "frameless reproject+temporal at " + csv_number(f) + "x the samples of conventional";
-        r.mode.display.blend.alpha = float(a.alpha);
-        r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
-        r.mode.engine.update_percent = a.percent;
+        RunRow r = motion_row("reproject+temporal capped", "frameless reproject+temporal at " +
+                                                               csv_number(f) + "x the samples of conventional");
         r.mode.engine.max_samples_per_s = f * conv_rate;
-        r.alpha = a.alpha;
-        r.percent = f;  // the fraction (CSV column update_percent holds it for these rows)
+        r.sample_fraction = f;
         rows.push_back(r);
       }
-    for (int rep = 0; rep < a.repeats; ++rep)
-      for (size_t k = capped_first; k < rows.size(); ++k) {
-        RunRow& r = rows[k];
-        bench_progress("motion", r.mode.name + " (repeat " + std::to_string(rep + 1) + ")");
-        LiveResult res = run_live(*scene, r.mode, sched);
-        r.avg_rmse += time_average(res.ticks, t0, t1, &TickRecord::rmse) / a.repeats;
-        r.avg_rmse_debiased += time_average(res.ticks, t0, t1, &TickRecord::rmse_debiased) / a.repeats;
-        r.avg_rel_mse += time_average(res.ticks, t0, t1, &TickRecord::rel_mse) / a.repeats;
-        r.tail_rmse += time_average(res.ticks, t1, sched.duration, &TickRecord::rmse) / a.repeats;
-        r.per_repeat.push_back(time_average(res.ticks, t0, t1, &TickRecord::rmse));
-        if (rep == 0) r.result = std::move(res);
-      }
+    run_rows(capped_first);
     for (RunRow& r : rows) {
       dat += "# " + r.mode.name + "\n";
       for (const TickRecord& t : r.result.ticks) {
@@ -356,7 +350,8 @@ int run_motion(const MotionOptions& options) {
       std::vector<std::pair<double, double>> curve;  // (fraction, rmse), the full rate first
       for (const RunRow& r : rows)
         if (r.mode.kind == "reproject+temporal") curve.push_back({1.0, r.avg_rmse});
-      for (size_t k = capped_first; k < rows.size(); ++k) curve.push_back({rows[k].percent, rows[k].avg_rmse});
+      for (size_t k = capped_first; k < rows.size(); ++k)
+        curve.push_back({rows[k].sample_fraction, rows[k].avg_rmse});
       std::sort(curve.begin(), curve.end(), [](auto& x, auto& y) { return x.first > y.first; });
       nlohmann::json points = nlohmann::json::array();
       for (const auto& [f, e] : curve) points.push_back({{"fraction", f}, {"time_avg_rmse", e}});
@@ -400,11 +395,6 @@ int run_motion(const MotionOptions& options) {
         n.replace(at, std::string::npos, " samples");
       return gnuplot_text(n);
     };
-    auto tic_label = [](const std::string& t) {  // a tic label is a format string: % is %%
-      std::string out;
-      for (const char c : t) out += c == '%' ? std::string("%%") : std::string(1, c);
-      return out;
-    };
     std::string body = "set multiplot layout 2,1\nset grid\n";
     body +=
         "set title 'Moving camera: RMSE of each displayed image vs the converged image for that "
@@ -435,7 +425,7 @@ int run_motion(const MotionOptions& options) {
         "set style fill solid 0.6\nset boxwidth 0.7\nset xtics rotate by -30 font ',8'\nset key "
         "off\nset yrange [0:*]\nset bmargin 9\nset rmargin 18\nset xtics (";
     for (size_t k = 0; k < rows.size(); ++k)
-      body += (k ? ", '" : "'") + tic_label(label(rows[k].mode.name)) + "' " + std::to_string(k);
+      body += (k ? ", '" : "'") + gnuplot_tic_text(label(rows[k].mode.name)) + "' " + std::to_string(k);
     body += ")\n";
     body += "plot '" + a.out + "/motion_avg.dat' using 1:2 with boxes lc rgb '#4477aa'";
     body += "\nunset multiplot";

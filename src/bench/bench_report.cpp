@@ -192,11 +192,17 @@ bool gnuplot_found() {
   return false;
 }
 
-std::string gnuplot_text(const std::string& text) {
+namespace {
+std::string doubled(const std::string& text, char c) {
   std::string out;
-  for (const char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  for (const char x : text) out += x == c ? std::string(2, c) : std::string(1, x);
   return out;
 }
+}  // namespace
+
+std::string gnuplot_text(const std::string& text) { return doubled(text, '\''); }
+
+std::string gnuplot_tic_text(const std::string& text) { return doubled(text, '%'); }
 
 bool plot_png(const std::string& dir, const std::string& name, int width, int height,
               const std::string& body, std::string& error, bool* png_written) {

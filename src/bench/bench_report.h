@@ -40,6 +40,8 @@ std::string csv_number(double v);  // %.6g; "nan"/"inf" spelled out; used for JS
 
 // `text` for a single-quoted gnuplot string (a quote is doubled), e.g. a run's name as a title.
 std::string gnuplot_text(const std::string& text);
+// A tic label is also a format string: `text` (already gnuplot_text) with each % doubled.
+std::string gnuplot_tic_text(const std::string& text);
 
 // Writes DIR/NAME.gp (pngcairo terminal and output lines are added here, `body` holds the rest)
 // and runs gnuplot on it, producing DIR/NAME.png. Without gnuplot it prints one message naming

@@ -359,13 +359,13 @@ void frameless_thread_main(Engine::Impl& e, int t) {
     constexpr uint64_t kBatch = 16;
     const uint64_t cpu0 = thread_cpu_ns();
     ThreadCounters& ctr = e.counters[t];
-    // Busy time for the balance statistics: one clock read per 64 batches keeps it off the hot path.
     // A sample-rate cap: this thread's share of it, as the time its samples so far should take.
-    const int spu = e.cfg.jitter ? 2 : 1;
+    const int spu = samples_per_update(e.cfg);
     const double share = e.cfg.max_samples_per_s / double(std::max<size_t>(1, e.workers.size()));
     const auto start = std::chrono::steady_clock::now();
     for (uint64_t batch = 1; !e.stop_flag.load(std::memory_order_relaxed); ++batch) {
       frameless_run(e, w, kBatch, e.now(), 0.0);
+      // Busy time for the balance statistics: one clock read per 64 batches keeps it off the hot path.
       if (batch % 64 == 0) ctr.busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);
       if (share > 0.0 && batch % 4 == 0) {
         const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(

@@ -12,6 +12,7 @@ TEST(BenchReport, GnuplotTextDoublesQuotes) {
   EXPECT_EQ(gnuplot_text("conventional's samples"), "conventional''s samples");
   EXPECT_EQ(gnuplot_text("''"), "''''");
   EXPECT_EQ(gnuplot_text(""), "");
+  EXPECT_EQ(gnuplot_tic_text("a=0.5 p=1%"), "a=0.5 p=1%%");
 }
 
 }  // namespace
