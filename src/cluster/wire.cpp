@@ -126,8 +126,12 @@ void encode_rgbe(const Vec3& c, uint8_t out[4]) {
   out[3] = uint8_t(e + 128);
 }
 
+// Canonical: what encode_rgbe makes of the colour it decodes to, so every colour has one
+// encoding (the encoder also sends colours below 1e-32 as black, which a mantissa test missed).
 bool canonical_rgbe(const uint8_t in[4]) {
-  return in[3] == 0 ? (in[0] | in[1] | in[2]) == 0 : std::max({in[0], in[1], in[2]}) >= 128;
+  uint8_t again[4];
+  encode_rgbe(decode_rgbe(in), again);
+  return std::memcmp(again, in, 4) == 0;
 }
 
 Vec3 decode_rgbe(const uint8_t in[4]) {

@@ -232,6 +232,10 @@ TEST(Wire, RgbeEncodesZeroBlackAndHugeAndIsCanonical) {
   bytes[first_rgbe + 3] = 130;
   const auto updates = [](const uint8_t* p, size_t n) { return decode_updates(p, n); };
   EXPECT_NE(refusal(updates, bytes).find("updates.rgbe: not a canonical"), std::string::npos);
+  // A colour below 1e-32, which the encoder sends as black (found by the fuzzer): refused too.
+  bytes = encode(u);
+  bytes[first_rgbe] = 0x65, bytes[first_rgbe + 1] = 0xe0, bytes[first_rgbe + 2] = 0, bytes[first_rgbe + 3] = 0x0b;
+  EXPECT_NE(refusal(updates, bytes).find("updates.rgbe: not a canonical"), std::string::npos);
   bytes = encode(u);
   bytes[16] = 7;
   EXPECT_NE(refusal(updates, bytes).find("updates.format: unknown wire format 7"), std::string::npos);
