@@ -89,9 +89,11 @@ struct PixelImage {
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
-  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks) {
-    return {width, height, layout ? layout->pixel_of->data() : nullptr,
-            layout ? layout->slot_of.data() : nullptr, px.data(), points.data(), levels.data(), marks.data()};
+  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
+                  const PixelPoint* engine_points = nullptr) {
+    return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
+            layout ? layout->slot_of.data() : nullptr,
+            px.data(),   points.data(), levels.data(), marks.data(), engine_points};
   }
 };
 
@@ -525,12 +527,9 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   points_out.resize(n);
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
-  // engine's point of its newest update.
-  for (size_t p = 0; p < n; ++p)
-    if (!marks[p]) points[p] = load_point(engine_points[p]);
-  const ReprojectStats st =
-      reprojector.run(reproject_basis, img.slots(points, marks), out.slots(points_out, marks_out),
-                      world_moves);
+  // engine's point of its newest update (read by the reprojection).
+  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points),
+                                            out.slots(points_out, marks_out), world_moves);
   std::swap(img.px, out.px);
   std::swap(img.levels, out.levels);
   std::swap(points, points_out);

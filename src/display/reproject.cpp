@@ -2,13 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace frameless {
 namespace {
 
 constexpr uint32_t kNone = ~0u;
-constexpr float kFar = std::numeric_limits<float>::infinity();
+constexpr uint64_t kHole = ~uint64_t(0);  // no point landed (depth bits 0xffffffff: a NaN, never a depth)
+
+inline uint32_t depth_bits(uint64_t key) { return uint32_t(key >> 32); }
+inline float key_depth(uint64_t key) {
+  float d;
+  const uint32_t bits = depth_bits(key);
+  std::memcpy(&d, &bits, sizeof d);
+  return d;
+}
+// Depths are positive or +infinity, so their bits order as the depths do.
+inline uint64_t make_key(float depth, uint32_t source) {
+  uint32_t bits;
+  std::memcpy(&bits, &depth, sizeof bits);
+  return uint64_t(bits) << 32 | source;
+}
 
 }  // namespace
 
@@ -17,7 +32,8 @@ constexpr float kFar = std::numeric_limits<float>::infinity();
 uint32_t Reprojector::farther(uint32_t a, uint32_t b) const {
   if (a == kNone) return b;
   if (b == kNone) return a;
-  return depth_[b] > depth_[a] || (depth_[b] == depth_[a] && b < a) ? b : a;
+  const uint32_t da = depth_bits(key_[a]), db = depth_bits(key_[b]);
+  return db > da || (db == da && b < a) ? b : a;
 }
 
 // The farthest landed pixel within r of (x, y), one window per hole.
@@ -26,7 +42,7 @@ uint32_t Reprojector::farthest_in_window(int x, int y, int w, int h, int r) cons
   for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
     for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx) {
       const uint32_t q = uint32_t(yy) * uint32_t(w) + uint32_t(xx);
-      if (source_[q] != kNone) best = farther(best, q);
+      if (key_[q] != kHole) best = farther(best, q);
     }
   return best;
 }
@@ -42,7 +58,7 @@ uint32_t Reprojector::farthest_in_rows(int x, int y, int w, int h, int r) {
     const size_t base = size_t(yy) * size_t(w);
     const auto at = [&](int i) {  // padded column i (i - r in the image), kNone outside
       const int xx = i - r;
-      return xx < 0 || xx >= w || source_[base + size_t(xx)] == kNone ? kNone : uint32_t(base + size_t(xx));
+      return xx < 0 || xx >= w || key_[base + size_t(xx)] == kHole ? kNone : uint32_t(base + size_t(xx));
     };
     for (int i = 0; i < padded; ++i)
       prefix_[size_t(i)] = i % k == 0 ? at(i) : farther(prefix_[size_t(i) - 1], at(i));
@@ -62,62 +78,52 @@ uint32_t Reprojector::farthest_in_rows(int x, int y, int w, int h, int r) {
 
 ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill) {
-  ReprojectStats stats;
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
-  depth_.assign(n, kFar);
-  source_.assign(n, kNone);
+  key_.assign(n, kHole);
   marks_.assign(n, kMarkMoved);
-  // Forward splat: each slot's point lands in one pixel; the nearest wins (the sky loses to any
-  // surface, and between two sky points the first stays).
+  // Forward splat: each pixel's point lands in one pixel; the nearest wins (the sky loses to any
+  // surface, and between two sky points the first stays). Points lie on their pixel centre's ray
+  // (trace_sample), so each pixel moves by its centre's motion. An unmarked pixel's point is the
+  // engine's newest, copied here for the gather below.
   const Projector project(after);
-  // Pixels in raster order, points by pixel: the splat streams through its input and writes
-  // near where it reads (slots come in shuffled chunks: walking them misses the cache). Points
-  // lie on their pixel centre's ray (trace_sample), so each pixel moves by its centre's motion.
   for (size_t p = 0; p < n; ++p) {
+    if (from.engine_points && !from.marks[p]) from.points[p] = load_point(from.engine_points[p]);
     float px, py, d;
     if (!project(from.points[p], px, py, d)) continue;
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
-    if (source_[t] == kNone || d < depth_[t]) {
-      depth_[t] = d;
-      source_[t] = uint32_t(p);
-    }
+    key_[t] = std::min(key_[t], make_key(d, uint32_t(p)));
   }
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
   holes_.clear();
   for (size_t t = 0; t < n; ++t)
-    if (source_[t] == kNone) holes_.push_back(uint32_t(t));
-  auto landed = [&](int x, int y) -> int64_t {
-    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
-    const size_t q = size_t(y) * size_t(w) + size_t(x);
-    return source_[q] == kNone ? -1 : int64_t(q);
-  };
+    if (key_[t] == kHole) holes_.push_back(uint32_t(t));
   static constexpr int kOpposite[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   fills_.clear();
   next_.clear();
   for (const uint32_t t : holes_) {
     const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
-    int64_t best = -1;
+    const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;
+    uint64_t best = kHole;
     for (const auto& d : kOpposite) {
-      const int64_t p = landed(x + d[0], y + d[1]), q = landed(x - d[0], y - d[1]);
-      if (p < 0 || q < 0) continue;
-      const float near = std::min(depth_[p], depth_[q]), far = std::max(depth_[p], depth_[q]);
-      if (far > near * 1.05f) continue;  // an edge between two surfaces, not a crack
-      const int64_t f = depth_[p] >= depth_[q] ? p : q;
-      if (best < 0 || depth_[f] > depth_[best]) best = f;
+      if (!inside && (x - d[0] < 0 || x + d[0] >= w || y - std::abs(d[1]) < 0 || y + std::abs(d[1]) >= h)) continue;
+      const int64_t off = int64_t(d[1]) * w + d[0];
+      const uint64_t kp = key_[size_t(int64_t(t) + off)], kq = key_[size_t(int64_t(t) - off)];
+      if (kp == kHole || kq == kHole) continue;
+      const float dp = key_depth(kp), dq = key_depth(kq);
+      if (std::max(dp, dq) > std::min(dp, dq) * 1.05f) continue;  // an edge between two surfaces, not a crack
+      const uint64_t f = dp >= dq ? kp : kq;
+      if (best == kHole || depth_bits(f) > depth_bits(best)) best = f;
     }
-    if (best < 0) {
+    if (best == kHole) {
       next_.push_back(t);
       continue;
     }
-    fills_.push_back({t, source_[best], depth_[best]});
+    fills_.push_back({t, best});
     marks_[t] = kMarkFilled;
   }
-  for (const Fill& f : fills_) {
-    source_[f.pixel] = f.source;
-    depth_[f.pixel] = f.depth;
-  }
+  for (const Fill& f : fills_) key_[f.pixel] = f.key;
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
   // farthest landed pixel within `max_fill` pixels; none there: it keeps its old content.
   fills_.clear();
@@ -132,17 +138,15 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
     const uint32_t best = by_rows ? farthest_in_rows(x, y, w, h, max_fill) : farthest_in_window(x, y, w, h, max_fill);
     marks_[t] = kMarkDisoccluded;
-    if (best != kNone) fills_.push_back({t, source_[best], depth_[best]});
+    if (best != kNone) fills_.push_back({t, key_[best]});
   }
-  for (const Fill& f : fills_) {
-    source_[f.pixel] = f.source;
-    depth_[f.pixel] = f.depth;
-  }
+  for (const Fill& f : fills_) key_[f.pixel] = f.key;
   // Gather into `to` pixel by pixel (points and marks stream); each slot keeps its own seq (what
   // the engine last published there). Moved content keeps its exact point: snapping it to the
   // pixel centre made the image drift by up to half a pixel per reprojection (a random walk; worse
   // error in bench motion although fewer holes).
   const Vec3 step = after.u * (2.0f * after.tan_half * after.aspect / float(w));
+  size_t by_mark[256] = {};
   // In raster order (walking slots instead was 2.3x slower: the pixel-indexed arrays scatter);
   // the slot-indexed pixels are scattered here, so they are fetched a few pixels early.
   constexpr size_t kAhead = 24;
@@ -151,15 +155,16 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     for (int x = 0; x < w; ++x) {
       const size_t t = size_t(y) * size_t(w) + size_t(x);
       if (t + kAhead < n) {
-        const uint32_t ahead = to.slot(t + kAhead), src = source_[t + kAhead];
+        const uint32_t ahead = to.slot(t + kAhead);
+        const uint64_t key = key_[t + kAhead];
         __builtin_prefetch(&to.px[ahead], 1);
         __builtin_prefetch(&from.px[ahead]);
-        if (src != kNone) __builtin_prefetch(&from.px[from.slot(src)]);
+        if (key != kHole) __builtin_prefetch(&from.px[from.slot(uint32_t(key))]);
       }
-      const uint32_t ts = to.slot(t);
-      uint32_t source = source_[t];
+      const uint64_t key = key_[t];
+      uint32_t source = uint32_t(key);
       uint8_t mark = marks_[t];
-      if (source == kNone) {  // nothing reached it: its old content, marked as a guess
+      if (key == kHole) {  // nothing reached it: its old content, marked as a guess
         source = uint32_t(t);
         mark = kMarkDisoccluded | kMarkUnknown;
       }
@@ -168,21 +173,25 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
         // A copy of a neighbour's content gets its own point, on its centre ray at that depth:
         // a copy of the neighbour's point would collide with it next time and open the hole again.
         const Vec3 dir = row + float(x) * step;
-        point.p = point.object == kPointSky ? dir : after.eye + depth_[t] * dir;
+        point.p = point.object == kPointSky ? dir : after.eye + key_depth(key) * dir;
       }
       if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
-      const uint32_t s = from.slot(source);
+      const uint32_t ts = to.slot(t), s = from.slot(source);
       DisplayPixel p = from.px[s];
       p.seq = from.px[ts].seq;
       to.px[ts] = p;
       to.points[t] = point;
       to.levels[ts] = from.levels[s];
       to.marks[t] = mark;
-      stats.moved += (mark & kMarkMoved) != 0;
-      stats.filled += (mark & kMarkFilled) != 0;
-      stats.disoccluded += (mark & kMarkDisoccluded) != 0;
-      stats.stale += (mark & kMarkStale) != 0;
+      ++by_mark[mark];
     }
+  }
+  ReprojectStats stats;
+  for (int m = 0; m < 256; ++m) {
+    stats.moved += (m & kMarkMoved) ? by_mark[m] : 0;
+    stats.filled += (m & kMarkFilled) ? by_mark[m] : 0;
+    stats.disoccluded += (m & kMarkDisoccluded) ? by_mark[m] : 0;
+    stats.stale += (m & kMarkStale) ? by_mark[m] : 0;
   }
   return stats;
 }

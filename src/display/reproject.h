@@ -76,7 +76,9 @@ struct ReprojectStats {
 };
 
 // The display image: pixels and levels by slot (slot s holds pixel pixel_of[s], identity when
-// null), points and marks by pixel.
+// null), points and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
+// update there, so its point is read from `engine_points` when set (the reprojection copies it
+// into `points`); a marked pixel shows moved content, whose point is in `points`.
 struct SlotImage {
   int width = 0;
   int height = 0;
@@ -86,6 +88,7 @@ struct SlotImage {
   ScenePoint* points = nullptr;
   uint8_t* levels = nullptr;
   uint8_t* marks = nullptr;
+  const PixelPoint* engine_points = nullptr;
   size_t pixels() const { return size_t(width) * size_t(height); }
   uint32_t slot(size_t pixel) const { return slot_of ? slot_of[pixel] : uint32_t(pixel); }
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }
@@ -96,7 +99,8 @@ class Reprojector {
   // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
   // point projects (points lie on their pixel centre's ray, see SampleResult::position). Slots
   // without a point (never rendered) move nowhere; a disoccluded pixel with nothing landed within
-  // `max_fill` pixels keeps `from`'s own content, marked. Each slot keeps its seq.
+  // `max_fill` pixels keeps `from`'s own content, marked. Each slot keeps its seq. `from.points`
+  // gets the engine's points of its unmarked pixels.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).
   ReprojectStats run(const CameraBasis& after, const SlotImage& from,
@@ -114,11 +118,12 @@ class Reprojector {
   Search search_ = Search::automatic;
   std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_in_rows' scratch
   std::vector<uint8_t> row_done_;
-  std::vector<float> depth_;     // by pixel: depth of the nearest point landed so far
-  std::vector<uint32_t> source_; // by pixel: the pixel of `from` it shows (kNone: a hole)
+  // By pixel: the nearest point landed so far as (depth bits << 32 | the pixel of `from` it
+  // shows), so the nearest is the smallest key and ties go to the lower pixel; kHole: none.
+  std::vector<uint64_t> key_;
   struct Fill {
-    uint32_t pixel, source;
-    float depth;
+    uint32_t pixel;
+    uint64_t key;
   };
   std::vector<uint8_t> marks_;   // by pixel: kMarkMoved, or how a hole was filled
   std::vector<uint32_t> holes_;  // pixels nothing landed on
