@@ -11,7 +11,8 @@ struct DisplayPixel {
   uint32_t count = 0;
   float variance = 0.0f;
   uint32_t epoch = 0;
-  uint32_t seq = 0;  // engine sequence number of the update shown: the same one is not blended twice
+  uint8_t levels = 0;  // reflection/refraction levels of the newest update (inside: moves with the pixel)
+  uint8_t unused[3] = {0, 0, 0};
 };
 static_assert(sizeof(DisplayPixel) == 32, "two pixels per cache line");
 

@@ -73,7 +73,6 @@ struct PixelImage {
   int height = 0;
   LayoutPtr layout;
   std::vector<DisplayPixel> px;
-  std::vector<uint8_t> levels;  // by slot like px, apart because DisplayPixel fills 32 bytes
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
 
@@ -85,7 +84,6 @@ struct PixelImage {
     height = h;
     layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
-    levels.assign(pixels(), 0);
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
@@ -93,7 +91,7 @@ struct PixelImage {
                   const PixelPoint* engine_points = nullptr) {
     return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
             layout ? layout->slot_of.data() : nullptr,
-            px.data(),   points.data(), levels.data(), marks.data(), engine_points};
+            px.data(),   points.data(), marks.data(), engine_points};
   }
 };
 
@@ -107,7 +105,7 @@ inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, siz
   dst.sample_count[i] = p.count;
   dst.variance[i] = p.variance;
   dst.epoch[i] = p.epoch;
-  dst.levels[i] = src.levels[s];
+  dst.levels[i] = p.levels;
 }
 
 // Converts the whole image into the public layer layout. It walks the pixels in order and
@@ -150,11 +148,9 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.layout = std::move(layout);
   const size_t n = src.pixels();
   dst.px.resize(n);
-  dst.levels.resize(n);
   for (size_t s = 0; s < n; ++s) {
     const uint32_t from = src.slot_of(dst.pixel_of(s));
     dst.px[s] = src.px[from];
-    dst.levels[s] = src.levels[from];
   }
 }
 
@@ -178,6 +174,10 @@ struct DisplayThread::Impl {
   uint64_t rejected = 0;
   uint64_t pixels_updated = 0;  // since construction
   LayoutPtr layout;             // the engine's current slot order, with its inverse
+  // By slot: the engine's sequence number of the update each slot shows, so that update is not
+  // blended twice. One array for the three buffers (each is brought up to the newest image before
+  // a tick blends into it); apart from the pixels, so reprojection leaves it where it is.
+  std::vector<uint32_t> shown_seq;
   std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
   ChangeHistory history;  // what the last ticks changed
   // Reprojection: the camera the image was last moved to (epoch 0: none yet) and scratch.
@@ -366,12 +366,12 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
 
 void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   DisplayPixel* px = image->px.data() + first;
-  uint8_t* lv = image->levels.data() + first;
+  uint32_t* seq = d.shown_seq.data() + first;
   PixelSnapshot u;
   for (size_t i = 0; i < count; ++i) {
     // A slot whose owner kept writing it is picked up on the owner's next visit.
-    if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == px[i].seq) continue;
-    px[i].seq = u.seq;
+    if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == seq[i]) continue;
+    seq[i] = u.seq;
     const size_t pixel = image->pixel_of(first + i);
     uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
     if (points) {
@@ -392,7 +392,7 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
     // costs a byte per update here, not a point.
     if (mark && *mark) *mark = kMarkNone;
     // Read after the state's seq: these levels are the shown update's or a newer one's.
-    if (levels) lv[i] = levels[pixel].load(std::memory_order_relaxed);
+    if (levels) px[i].levels = levels[pixel].load(std::memory_order_relaxed);
   }
   mark_dirty(first, count);
   if (asked) {  // inside collect(): the asks stay valid (the layout is locked)
@@ -406,8 +406,8 @@ void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
   for (size_t i = 0; i < n; ++i) {
     if (pixels[i].epoch == 0) continue;
     show(image->px[i], pixels[i], false);
-    image->px[i].seq = 0;  // frames carry no sequence number; frameless updates compare against 0
-    image->levels[i] = pixels[i].levels;
+    d.shown_seq[i] = 0;  // frames carry no sequence number; frameless updates compare against 0
+    image->px[i].levels = pixels[i].levels;
   }
   full = true;
 }
@@ -459,9 +459,22 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 // Clears it instead on a reset or a size change, and moves every pixel to its new slot on a
 // layout change. Returns whether this tick therefore changed the whole image.
 bool DisplayThread::Impl::catch_up(const CollectResult& r) {
-  if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) layout = make_layout(r.slot_pixel);
+  const size_t n = size_t(r.width) * size_t(r.height);
+  if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) {
+    LayoutPtr next = make_layout(r.slot_pixel);
+    if (shown_seq.size() == n) {  // each pixel keeps the seq it shows, in its new slot
+      std::vector<uint32_t> moved(n);
+      for (size_t s = 0; s < n; ++s) {
+        const uint32_t pixel = next ? (*next->pixel_of)[s] : uint32_t(s);
+        moved[s] = shown_seq[layout ? layout->slot_of[pixel] : pixel];
+      }
+      shown_seq.swap(moved);
+    }
+    layout = std::move(next);
+  }
   PixelImage& img = buf[back];
   if (r.reset || newest > 2 || buf[newest].width != r.width || buf[newest].height != r.height) {
+    shown_seq.assign(n, 0);
     img.reset(r.width, r.height, layout);
     epoch_tag.assign(kEpochRing, 0);
     epoch_count.assign(kEpochRing, 0);
@@ -479,13 +492,11 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.height = src.height;
     img.layout = src.layout;
     img.px = src.px;
-    img.levels = src.levels;
     return false;
   }
   for (uint64_t t = have; t < tick_index; ++t)
     for (const SlotRun& run : history.runs[t % kHistory]) {
       std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
-      std::memcpy(&img.levels[run.first], &src.levels[run.first], run.count);
     }
   return false;
 }
@@ -523,7 +534,6 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   out.layout = img.layout;
   const size_t n = img.pixels();
   out.px.resize(n);
-  out.levels.resize(n);
   points_out.resize(n);
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
@@ -531,7 +541,6 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points),
                                             out.slots(points_out, marks_out), world_moves);
   std::swap(img.px, out.px);
-  std::swap(img.levels, out.levels);
   std::swap(points, points_out);
   std::swap(marks, marks_out);
   recount_epochs(img);

@@ -141,10 +141,10 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     if (best != kNone) fills_.push_back({t, key_[best]});
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
-  // Gather into `to` pixel by pixel (points and marks stream); each slot keeps its own seq (what
-  // the engine last published there). Moved content keeps its exact point: snapping it to the
-  // pixel centre made the image drift by up to half a pixel per reprojection (a random walk; worse
-  // error in bench motion although fewer holes).
+  // Gather into `to` pixel by pixel (points and marks stream). Moved content keeps its exact
+  // point: snapping it to the pixel centre made the image drift by up to half a pixel per
+  // reprojection (a random walk; worse error in bench motion although fewer holes). The engine's
+  // sequence numbers stay with the slots (the display keeps them apart from the pixels).
   const Vec3 step = after.u * (2.0f * after.tan_half * after.aspect / float(w));
   size_t by_mark[256] = {};
   // In raster order (walking slots instead was 2.3x slower: the pixel-indexed arrays scatter);
@@ -158,7 +158,6 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
         const uint32_t ahead = to.slot(t + kAhead);
         const uint64_t key = key_[t + kAhead];
         __builtin_prefetch(&to.px[ahead], 1);
-        __builtin_prefetch(&from.px[ahead]);
         if (key != kHole) __builtin_prefetch(&from.px[from.slot(uint32_t(key))]);
       }
       const uint64_t key = key_[t];
@@ -177,11 +176,8 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       }
       if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
       const uint32_t ts = to.slot(t), s = from.slot(source);
-      DisplayPixel p = from.px[s];
-      p.seq = from.px[ts].seq;
-      to.px[ts] = p;
+      to.px[ts] = from.px[s];
       to.points[t] = point;
-      to.levels[ts] = from.levels[s];
       to.marks[t] = mark;
       ++by_mark[mark];
     }

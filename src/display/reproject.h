@@ -86,7 +86,6 @@ struct SlotImage {
   const uint32_t* slot_of = nullptr;
   DisplayPixel* px = nullptr;
   ScenePoint* points = nullptr;
-  uint8_t* levels = nullptr;
   uint8_t* marks = nullptr;
   const PixelPoint* engine_points = nullptr;
   size_t pixels() const { return size_t(width) * size_t(height); }
@@ -99,7 +98,7 @@ class Reprojector {
   // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
   // point projects (points lie on their pixel centre's ray, see SampleResult::position). Slots
   // without a point (never rendered) move nowhere; a disoccluded pixel with nothing landed within
-  // `max_fill` pixels keeps `from`'s own content, marked. Each slot keeps its seq. `from.points`
+  // `max_fill` pixels keeps `from`'s own content, marked. `from.points`
   // gets the engine's points of its unmarked pixels.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).

@@ -23,9 +23,9 @@ constexpr int kW = 64, kH = 48;
 struct Synthetic {
   std::vector<DisplayPixel> px;
   std::vector<ScenePoint> points;
-  std::vector<uint8_t> levels, marks;
+  std::vector<uint8_t> marks;
   SlotImage image() {
-    return {kW, kH, nullptr, nullptr, px.data(), points.data(), levels.data(), marks.data()};
+    return {kW, kH, nullptr, nullptr, px.data(), points.data(), marks.data()};
   }
 };
 
@@ -50,7 +50,6 @@ Synthetic render(const CameraBasis& b, bool square) {
   Synthetic s;
   s.px.resize(size_t(kW) * kH);
   s.points.resize(s.px.size());
-  s.levels.assign(s.px.size(), 0);
   s.marks.assign(s.px.size(), kMarkNone);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
@@ -61,7 +60,7 @@ Synthetic render(const CameraBasis& b, bool square) {
       s.px[i].rgb[1] = float(y);
       s.px[i].rgb[2] = sq ? 0.0f : 1.0f;
       s.px[i].epoch = 1;
-      s.px[i].seq = uint32_t(2 * i + 2);
+      s.px[i].levels = uint8_t(i % 7);
     }
   return s;
 }
@@ -99,7 +98,7 @@ TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
         EXPECT_NEAR(cy, float(y) + 0.5f, 1e-3f) << x << "," << y;
         EXPECT_NEAR(cd, sd, 1e-5f * sd) << x << "," << y;
       }
-      EXPECT_EQ(to.px[t].seq, from.px[t].seq);  // each slot keeps its own sequence number
+      EXPECT_EQ(to.px[t].levels, from.px[src].levels);  // the levels move with the content
       float px, py, d;
       ASSERT_TRUE(project_point(b, p, px, py, d));
       if (to.marks[t] == kMarkMoved) {
