@@ -128,31 +128,28 @@ int run_motion(const MotionOptions& options) {
     base.engine.threads = threads;
     base.display.refresh_hz = a.refresh;
     std::vector<RunRow> rows;
-    auto add_frameless = [&](double al, double p) {
-      for (const RunRow& r : rows)
-        if (r.mode.kind == "frameless" && r.alpha == al && r.percent == p) return;
-      RunRow r;
-      r.mode = base;
-      r.mode.kind = "frameless";
-      r.mode.name = "frameless a=" + csv_number(al) + " p=" + csv_number(p) + "%";
-      r.mode.display.blend.alpha = float(al);
-      r.mode.engine.update_percent = p;
-      r.alpha = al;
-      r.percent = p;
-      rows.push_back(r);
-    };
-    // The headline motion settings (reprojection + temporal weights) at the default alpha and
-    // update percent; the equal-error rows vary threads or the sample cap.
-    auto motion_row = [&](const std::string& kind, const std::string& name) {
+    // A frameless row at blend weight `al` and update percent `p`.
+    auto frameless_row = [&](const std::string& kind, const std::string& name, double al, double p) {
       RunRow r;
       r.mode = base;
       r.mode.kind = kind;
       r.mode.name = name;
-      r.mode.display.blend.alpha = float(a.alpha);
+      r.mode.display.blend.alpha = float(al);
+      r.mode.engine.update_percent = p;
+      r.alpha = al;
+      r.percent = p;
+      return r;
+    };
+    auto add_frameless = [&](double al, double p) {
+      for (const RunRow& r : rows)
+        if (r.mode.kind == "frameless" && r.alpha == al && r.percent == p) return;
+      rows.push_back(frameless_row("frameless", "frameless a=" + csv_number(al) + " p=" + csv_number(p) + "%", al, p));
+    };
+    // The headline motion settings (reprojection + temporal weights) at the default alpha and
+    // update percent; the equal-error rows vary threads or the sample cap.
+    auto motion_row = [&](const std::string& kind, const std::string& name) {
+      RunRow r = frameless_row(kind, name, a.alpha, a.percent);
       r.mode.display.blend.reproject = r.mode.display.blend.temporal = true;
-      r.mode.engine.update_percent = a.percent;
-      r.alpha = a.alpha;
-      r.percent = a.percent;
       return r;
     };
     add_frameless(a.alpha, a.percent);  // the default setting first
@@ -165,19 +162,13 @@ int run_motion(const MotionOptions& options) {
                                             "reproject+temporal+budget", "reproject+temporal+adaptive"};
     for (const char* variant : kVariants) {
       const std::string v = variant;
-      RunRow r;
-      r.mode = base;
-      r.mode.kind = v;
-      r.mode.name = "frameless " + r.mode.kind + " a=" + csv_number(a.alpha) + " p=" + csv_number(a.percent) + "%";
-      r.mode.display.blend.alpha = float(a.alpha);
+      RunRow r = frameless_row(v, "frameless " + v + " a=" + csv_number(a.alpha) + " p=" + csv_number(a.percent) + "%",
+                               a.alpha, a.percent);
       r.mode.display.blend.reproject = v.find("reproject") != std::string::npos;
       r.mode.display.blend.temporal = v.find("temporal") != std::string::npos;
       r.mode.engine.closed_loop = v.find("closed-loop") != std::string::npos;
       if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = kBenchReprojectBudget;
       r.mode.engine.adaptive.enabled = v.find("adaptive") != std::string::npos;
-      r.mode.engine.update_percent = a.percent;
-      r.alpha = a.alpha;
-      r.percent = a.percent;
       rows.push_back(r);
     }
     // Equal error at fewer samples: the headline motion settings on half the render threads,

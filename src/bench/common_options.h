@@ -34,11 +34,11 @@ struct ShadowOptions {
 // Parses "WxH" (1..16384 each); false with a one-line message otherwise.
 bool parse_size(const std::string& text, int& width, int& height, std::string& error);
 
-// Number of hardware threads (at least 1).
 // The reprojection budget the benchmarks measure beside the unlimited default: 15 % of a core
 // keeps the display thread within 25 % during bench engine's continuous move.
 inline constexpr float kBenchReprojectBudget = 0.15f;
 
+// Number of hardware threads (at least 1).
 int hardware_threads();
 // Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
 bool valid_threads(int threads, std::string& error);

@@ -141,17 +141,24 @@ void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
   synced = now;
 }
 
+// `by_slot` (one entry per slot of `from`) with each pixel's entry moved to its slot under `to`
+// (a layout change, same size; null layouts: slot s is pixel s).
+template <typename T>
+std::vector<T> to_new_slots(const std::vector<T>& by_slot, const SlotLayout* from, const SlotLayout* to) {
+  std::vector<T> out(by_slot.size());
+  for (size_t s = 0; s < out.size(); ++s) {
+    const uint32_t pixel = to ? (*to->pixel_of)[s] : uint32_t(s);
+    out[s] = by_slot[from ? from->slot_of[pixel] : pixel];
+  }
+  return out;
+}
+
 // dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).
 void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.width = src.width;
   dst.height = src.height;
+  dst.px = to_new_slots(src.px, src.layout.get(), layout.get());
   dst.layout = std::move(layout);
-  const size_t n = src.pixels();
-  dst.px.resize(n);
-  for (size_t s = 0; s < n; ++s) {
-    const uint32_t from = src.slot_of(dst.pixel_of(s));
-    dst.px[s] = src.px[from];
-  }
 }
 
 }  // namespace
@@ -462,14 +469,8 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
   const size_t n = size_t(r.width) * size_t(r.height);
   if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) {
     LayoutPtr next = make_layout(r.slot_pixel);
-    if (shown_seq.size() == n) {  // each pixel keeps the seq it shows, in its new slot
-      std::vector<uint32_t> moved(n);
-      for (size_t s = 0; s < n; ++s) {
-        const uint32_t pixel = next ? (*next->pixel_of)[s] : uint32_t(s);
-        moved[s] = shown_seq[layout ? layout->slot_of[pixel] : pixel];
-      }
-      shown_seq.swap(moved);
-    }
+    // Each pixel keeps the seq it shows, in its new slot.
+    if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get());
     layout = std::move(next);
   }
   PixelImage& img = buf[back];

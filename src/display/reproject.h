@@ -75,8 +75,8 @@ struct ReprojectStats {
   size_t stale = 0;        // pixels showing something that may move (dynamic objects, instances)
 };
 
-// The display image: pixels and levels by slot (slot s holds pixel pixel_of[s], identity when
-// null), points and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
+// The display image: pixels by slot (slot s holds pixel pixel_of[s], identity when null), points
+// and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
 // update there, so its point is read from `engine_points` when set (the reprojection copies it
 // into `points`); a marked pixel shows moved content, whose point is in `points`.
 struct SlotImage {
@@ -98,8 +98,8 @@ class Reprojector {
   // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
   // point projects (points lie on their pixel centre's ray, see SampleResult::position). Slots
   // without a point (never rendered) move nowhere; a disoccluded pixel with nothing landed within
-  // `max_fill` pixels keeps `from`'s own content, marked. `from.points`
-  // gets the engine's points of its unmarked pixels.
+  // `max_fill` pixels keeps `from`'s own content, marked. `from.points` gets the engine's points
+  // of its unmarked pixels.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).
   ReprojectStats run(const CameraBasis& after, const SlotImage& from,

@@ -54,10 +54,13 @@ struct FramelessWorker {
   uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame serial `frame` was evaluated for
   uint32_t instances_epoch = 1;          // moved instances in frame.instances (1: as built)
   bool moving = false;
-  // Closed-loop sampling: the runs (list positions of their first pixel) asked for and not yet
-  // rendered, served front to back, and the generation of the display's asks last scanned.
-  std::vector<uint32_t> asked;
-  std::vector<float> asked_time;  // engine seconds when each was queued
+  // Closed-loop sampling: the runs asked for and not yet rendered, served front to back, and the
+  // generation of the display's asks last scanned.
+  struct AskedRun {
+    uint32_t pos;  // list position of the run's first pixel
+    float time;    // engine seconds when it was queued
+  };
+  std::vector<AskedRun> asked;
   size_t asked_next = 0;
   uint64_t asked_generation = 0;
 };

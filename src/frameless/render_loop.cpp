@@ -217,7 +217,6 @@ void scan_asked(Engine::Impl& e, FramelessWorker& w, float now) {
   if (generation == w.asked_generation) return;
   w.asked_generation = generation;
   w.asked.erase(w.asked.begin(), w.asked.begin() + std::ptrdiff_t(w.asked_next));
-  w.asked_time.erase(w.asked_time.begin(), w.asked_time.begin() + std::ptrdiff_t(w.asked_next));
   w.asked_next = 0;
   const size_t first = w.first_slot, end = first + w.pixels->size();
   if (end == first) return;
@@ -225,8 +224,7 @@ void scan_asked(Engine::Impl& e, FramelessWorker& w, float now) {
     std::atomic<uint8_t>& f = e.wanted.flags[r];
     if (!f.load(std::memory_order_relaxed)) continue;
     f.store(0, std::memory_order_relaxed);
-    w.asked.push_back(uint32_t(std::max(r * kRunLength, first) - first));
-    w.asked_time.push_back(now);
+    w.asked.push_back({uint32_t(std::max(r * kRunLength, first) - first), now});
   }
 }
 
@@ -239,12 +237,12 @@ uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, d
   // Runs whose pixels were all updated since the ask was queued (the walk got there first) are
   // dropped: the display asked for a newer sample, and it has one.
   while (w.asked_next < w.asked.size()) {
-    const float asked_at = w.asked_time[w.asked_next];
-    pos0 = w.asked[w.asked_next++];
+    const FramelessWorker::AskedRun run = w.asked[w.asked_next++];
+    pos0 = run.pos;
     len = std::min<size_t>({kRunLength, list.size() - pos0, size_t(budget)});
     bool since = true;  // every pixel of the run updated since it was queued
     for (size_t k = 0; k < len && since; ++k)
-      since = e.states[w.first_slot + pos0 + k].time.load(std::memory_order_relaxed) > asked_at;
+      since = e.states[w.first_slot + pos0 + k].time.load(std::memory_order_relaxed) > run.time;
     if (!since) break;
     len = 0;
   }
