@@ -5,6 +5,15 @@
 #include <cstring>
 #include <limits>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#if defined(__GNUC__) && !defined(__clang__)
+// GCC 12 flags the deliberately undefined operands inside its own AVX-512 intrinsics
+// (clang's -Wsometimes-uninitialized still checks this file).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#endif
+
 namespace frameless {
 namespace {
 
@@ -38,6 +47,29 @@ uint32_t Reprojector::farther(uint32_t a, uint32_t b) const {
 
 // The farthest landed pixel within r of (x, y), one window per hole.
 uint32_t Reprojector::farthest_in_window(int x, int y, int w, int h, int r) const {
+#if defined(__AVX512F__)
+  if (vectorized_ && r <= 3) {  // a row of the window (at most 7 keys) in one vector: the hot path of large moves
+    const int x0 = std::max(0, x - r), x1 = std::min(w - 1, x + r);
+    const __mmask8 lanes = __mmask8((1u << (x1 - x0 + 1)) - 1u);
+    const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
+    uint32_t best = kNone, best_depth = 0;
+    for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy) {
+      const size_t base = size_t(yy) * size_t(w) + size_t(x0);
+      const __m512i keys = _mm512_maskz_loadu_epi64(lanes, &key_[base]);
+      const __mmask8 landed = _mm512_mask_cmpneq_epu64_mask(lanes, keys, hole);
+      if (!landed) continue;
+      const __m512i depth = _mm512_srli_epi64(keys, 32);
+      const uint64_t d = _mm512_mask_reduce_max_epu64(landed, depth);
+      // Rows run in pixel order, so the first lane of the farthest depth and, across rows, a
+      // strictly farther depth keep farther()'s tie rule (the lower pixel).
+      if (best != kNone && uint32_t(d) <= best_depth) continue;
+      const __mmask8 at = _mm512_mask_cmpeq_epu64_mask(landed, depth, _mm512_set1_epi64(int64_t(d)));
+      best = uint32_t(base) + uint32_t(__builtin_ctz(at));
+      best_depth = uint32_t(d);
+    }
+    return best;
+  }
+#endif
   uint32_t best = kNone;
   for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
     for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx) {
@@ -96,13 +128,29 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   }
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
-  holes_.clear();
-  for (size_t t = 0; t < n; ++t)
-    if (key_[t] == kHole) holes_.push_back(uint32_t(t));
+  if (holes_.size() < n + 8) holes_.resize(n + 8);  // never shrunk: growing zeroes it; 8 spare for the vector store
+  size_t holes = 0;
+  size_t t0 = 0;
+#if defined(__AVX512F__)
+  if (vectorized_) {  // eight keys a compare, their holes' pixels stored packed (the branch per pixel mispredicts)
+    const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
+    const __m256i step8 = _mm256_set1_epi32(8);
+    __m256i index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (; t0 + 8 <= n; t0 += 8, index = _mm256_add_epi32(index, step8)) {
+      const __mmask8 m = _mm512_cmpeq_epu64_mask(_mm512_loadu_si512(&key_[t0]), hole);
+      // Compressed in a register and stored whole (a compressing store to memory is slow on Zen 4).
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(&holes_[holes]), _mm256_maskz_compress_epi32(m, index));
+      holes += size_t(__builtin_popcount(m));
+    }
+  }
+#endif
+  for (; t0 < n; ++t0)
+    if (key_[t0] == kHole) holes_[holes++] = uint32_t(t0);
   static constexpr int kOpposite[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   fills_.clear();
   next_.clear();
-  for (const uint32_t t : holes_) {
+  for (size_t i = 0; i < holes; ++i) {
+    const uint32_t t = holes_[i];
     const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
     const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;
     uint64_t best = kHole;

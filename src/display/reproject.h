@@ -109,12 +109,16 @@ class Reprojector {
   // (cheaper for many holes); automatic picks by the number of holes. Both give the same image.
   enum class Search { automatic, window, rows };
   void set_search(Search s) { search_ = s; }
+  // AVX-512 paths (hole scan, disocclusion window) where the build has them; off:
+  // the scalar code, which they must match exactly (tested).
+  void set_vectorized(bool on) { vectorized_ = on; }
 
  private:
   uint32_t farther(uint32_t a, uint32_t b) const;
   uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
   Search search_ = Search::automatic;
+  bool vectorized_ = true;
   std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_in_rows' scratch
   std::vector<uint8_t> row_done_;
   // By pixel: the nearest point landed so far as (depth bits << 32 | the pixel of `from` it

@@ -193,23 +193,50 @@ TEST(Reproject, RepeatedStepsKeepTheImageWhole) {
 
 // Many holes (a wide step) take the by-rows search; it must pick exactly what the per-hole window
 // picks (the farthest landed pixel within reach, ties to the lower index), so the images match.
+// Radius 3 (the default) takes the vector window where the build has AVX-512, radius 5 the
+// scalar one; both must pick what the row search picks.
 TEST(Reproject, RowSearchMatchesTheWindowSearch) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
   for (size_t i = 0; i < from.points.size(); i += 7) from.points[i].object = kPointNone;  // holes
-  Synthetic window = from, rows = from;
+  for (const int radius : {3, 5}) {
+    SCOPED_TRACE(radius);
+    Synthetic window = from, rows = from;
+    Reprojector r;
+    r.set_search(Reprojector::Search::window);
+    const ReprojectStats sw = r.run(b, from.image(), window.image(), true, radius);
+    r.set_search(Reprojector::Search::rows);
+    const ReprojectStats sr = r.run(b, from.image(), rows.image(), true, radius);
+    EXPECT_GT(sw.disoccluded, size_t(kW * kH) / 8);
+    EXPECT_EQ(sw.disoccluded, sr.disoccluded);
+    EXPECT_EQ(sw.filled, sr.filled);
+    EXPECT_EQ(std::memcmp(window.px.data(), rows.px.data(), window.px.size() * sizeof(DisplayPixel)), 0);
+    EXPECT_EQ(std::memcmp(window.points.data(), rows.points.data(), window.points.size() * sizeof(ScenePoint)), 0);
+    EXPECT_EQ(window.marks, rows.marks);
+  }
+}
+
+// The vector paths (hole scan, disocclusion window) give the scalar code's image,
+// bit for bit, on a scene with cracks, edges, disocclusions and a band of new view.
+TEST(Reproject, VectorPathsMatchTheScalarCode) {
+  const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
+  Synthetic from = render(a, true);
+  for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;  // holes
+  Synthetic vec = from, scalar = from;
   Reprojector r;
   r.set_search(Reprojector::Search::window);
-  const ReprojectStats sw = r.run(b, from.image(), window.image());
-  r.set_search(Reprojector::Search::rows);
-  const ReprojectStats sr = r.run(b, from.image(), rows.image());
-  EXPECT_GT(sw.disoccluded, size_t(kW * kH) / 8);
-  EXPECT_EQ(sw.disoccluded, sr.disoccluded);
-  EXPECT_EQ(sw.filled, sr.filled);
-  EXPECT_EQ(std::memcmp(window.px.data(), rows.px.data(), window.px.size() * sizeof(DisplayPixel)), 0);
-  EXPECT_EQ(std::memcmp(window.points.data(), rows.points.data(), window.points.size() * sizeof(ScenePoint)), 0);
-  EXPECT_EQ(window.marks, rows.marks);
+  const ReprojectStats sv = r.run(b, from.image(), vec.image());
+  r.set_vectorized(false);
+  const ReprojectStats ss = r.run(b, from.image(), scalar.image());
+  EXPECT_GT(ss.filled, 0u);
+  EXPECT_GT(ss.disoccluded, 0u);
+  EXPECT_EQ(sv.filled, ss.filled);
+  EXPECT_EQ(sv.disoccluded, ss.disoccluded);
+  EXPECT_EQ(std::memcmp(vec.px.data(), scalar.px.data(), vec.px.size() * sizeof(DisplayPixel)), 0);
+  EXPECT_EQ(std::memcmp(vec.points.data(), scalar.points.data(), vec.points.size() * sizeof(ScenePoint)), 0);
+  EXPECT_EQ(vec.marks, scalar.marks);
 }
 
 // The CPU budget is a leaky bucket: a reprojection that cost c at budget b waits c / b seconds.
