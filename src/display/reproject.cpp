@@ -108,6 +108,67 @@ uint32_t Reprojector::farthest_in_rows(int x, int y, int w, int h, int r) {
   return best;
 }
 
+#if defined(__AVX512F__)
+// The splat 16 pixels a step: their points transposed into components, projected as Projector
+// does (the same fused operations, so the same pixels and depths), then each landed point's key
+// kept if nearer, in pixel order. Returns the pixels done (a multiple of 16).
+size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
+  const size_t n = from.pixels() / 16 * 16;
+  // Components of points 0..7 from two vectors of four points (x, y, z, object each).
+  const __m512i first_xy = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 1, 5, 9, 13, 17, 21, 25, 29);
+  const __m512i first_zo = _mm512_add_epi32(first_xy, _mm512_set1_epi32(2));
+  const __m512i low8 = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
+  const __m512i high8 = _mm512_add_epi32(low8, _mm512_set1_epi32(8));
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
+  const __m512i none = _mm512_set1_epi32(int(kPointNone)), sky = _mm512_set1_epi32(int(kPointSky));
+  alignas(64) uint32_t target[16], depth_bits[16];
+  for (size_t p = 0; p < n; p += 16) {
+    if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
+      const __m128i marks = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p));
+      for (unsigned m = _mm_cmpeq_epi8_mask(marks, _mm_setzero_si128()); m; m &= m - 1u)
+        from.points[p + __builtin_ctz(m)] = load_point(from.engine_points[p + __builtin_ctz(m)]);
+    }
+    const float* f = reinterpret_cast<const float*>(from.points + p);
+    const __m512 a = _mm512_loadu_ps(f), b = _mm512_loadu_ps(f + 16), c = _mm512_loadu_ps(f + 32),
+                 d = _mm512_loadu_ps(f + 48);
+    const __m512 xy0 = _mm512_permutex2var_ps(a, first_xy, b), xy1 = _mm512_permutex2var_ps(c, first_xy, d);
+    const __m512 zo0 = _mm512_permutex2var_ps(a, first_zo, b), zo1 = _mm512_permutex2var_ps(c, first_zo, d);
+    const __m512 px = _mm512_permutex2var_ps(xy0, low8, xy1), py = _mm512_permutex2var_ps(xy0, high8, xy1);
+    const __m512 pz = _mm512_permutex2var_ps(zo0, low8, zo1);
+    const __m512i object = _mm512_castps_si512(_mm512_permutex2var_ps(zo0, high8, zo1));
+    const __mmask16 is_sky = _mm512_cmpeq_epi32_mask(object, sky);
+    const __mmask16 not_sky = __mmask16(~is_sky);
+    // The sky's point is a direction; any other is a position.
+    const __m512 dx = _mm512_mask_sub_ps(px, not_sky, px, _mm512_set1_ps(pr.eye.x));
+    const __m512 dy = _mm512_mask_sub_ps(py, not_sky, py, _mm512_set1_ps(pr.eye.y));
+    const __m512 dz = _mm512_mask_sub_ps(pz, not_sky, pz, _mm512_set1_ps(pr.eye.z));
+    const auto dot = [&](const Vec3& v) {
+      return _mm512_fmadd_ps(dz, _mm512_set1_ps(v.z),
+                             _mm512_fmadd_ps(dy, _mm512_set1_ps(v.y), _mm512_mul_ps(dx, _mm512_set1_ps(v.x))));
+    };
+    const __m512 z = dot(pr.w);
+    const __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), z);
+    const __m512 sx = _mm512_fmadd_ps(dot(pr.x), inv, _mm512_set1_ps(pr.cx));
+    const __m512 sy = _mm512_fnmadd_ps(dot(pr.y), inv, _mm512_set1_ps(pr.cy));
+    __mmask16 landed = _mm512_cmpneq_epi32_mask(object, none) & _mm512_cmp_ps_mask(z, zero, _CMP_GT_OQ);
+    landed &= _mm512_cmp_ps_mask(sx, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sx, _mm512_set1_ps(pr.width), _CMP_LT_OQ);
+    landed &= _mm512_cmp_ps_mask(sy, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sy, _mm512_set1_ps(pr.height), _CMP_LT_OQ);
+    if (!landed) continue;
+    const __m512i t = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_cvttps_epi32(sy), _mm512_set1_epi32(w)),
+                                       _mm512_cvttps_epi32(sx));
+    _mm512_store_si512(target, t);
+    _mm512_store_si512(depth_bits, _mm512_castps_si512(_mm512_mask_mov_ps(z, is_sky, inf)));
+    for (unsigned m = landed; m; m &= m - 1u) {
+      const unsigned i = unsigned(__builtin_ctz(m));
+      uint64_t& k = key_[target[i]];
+      k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+    }
+  }
+  return n;
+}
+#endif
+
 ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill) {
   const int w = from.width, h = from.height;
@@ -119,7 +180,11 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // (trace_sample), so each pixel moves by its centre's motion. An unmarked pixel's point is the
   // engine's newest, copied here for the gather below.
   const Projector project(after);
-  for (size_t p = 0; p < n; ++p) {
+  size_t p0 = 0;
+#if defined(__AVX512F__)
+  if (vectorized_) p0 = splat16(project, from, w);
+#endif
+  for (size_t p = p0; p < n; ++p) {
     if (from.engine_points && !from.marks[p]) from.points[p] = load_point(from.engine_points[p]);
     float px, py, d;
     if (!project(from.points[p], px, py, d)) continue;
@@ -175,7 +240,13 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
   // farthest landed pixel within `max_fill` pixels; none there: it keeps its old content.
   fills_.clear();
-  const bool by_rows = search_ == Search::rows || (search_ == Search::automatic && next_.size() > n / 8);
+#if defined(__AVX512F__)
+  const bool vector_window = vectorized_ && max_fill <= 3;  // cheaper than the rows at any count
+#else
+  const bool vector_window = false;
+#endif
+  const bool by_rows =
+      search_ == Search::rows || (search_ == Search::automatic && !vector_window && next_.size() > n / 8);
   if (by_rows) {  // many holes (large steps: an edge band of new view)
     row_best_.resize(n);
     row_done_.assign(size_t(h), 0);

@@ -217,13 +217,16 @@ TEST(Reproject, RowSearchMatchesTheWindowSearch) {
   }
 }
 
-// The vector paths (hole scan, disocclusion window) give the scalar code's image,
-// bit for bit, on a scene with cracks, edges, disocclusions and a band of new view.
+// The vector paths (splat, hole scan, disocclusion window) give the scalar code's image, bit for
+// bit, on a scene with sky, cracks, edges, disocclusions and a band of new view.
 TEST(Reproject, VectorPathsMatchTheScalarCode) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
   for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;  // holes
+  for (int y = 0; y < kH / 5; ++y)  // sky along the top: its points are directions
+    for (int x = 0; x < kW; ++x)
+      from.points[size_t(y) * kW + size_t(x)] = {camera_ray(a, float(x) + 0.5f, float(y) + 0.5f).dir, kPointSky};
   Synthetic vec = from, scalar = from;
   Reprojector r;
   r.set_search(Reprojector::Search::window);
