@@ -218,12 +218,13 @@ TEST(Reproject, RowSearchMatchesTheWindowSearch) {
 }
 
 // The vector paths (splat, hole scan, disocclusion window) give the scalar code's image, bit for
-// bit, on a scene with sky, cracks, edges, disocclusions and a band of new view.
+// bit, on a scene with sky, moving objects, cracks, edges, disocclusions and a band of new view.
 TEST(Reproject, VectorPathsMatchTheScalarCode) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
   for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;  // holes
+  for (size_t i = 5; i < from.points.size(); i += 13) from.points[i].object = kPointDynamic + uint32_t(i % 3);
   for (int y = 0; y < kH / 5; ++y)  // sky along the top: its points are directions
     for (int x = 0; x < kW; ++x)
       from.points[size_t(y) * kW + size_t(x)] = {camera_ray(a, float(x) + 0.5f, float(y) + 0.5f).dir, kPointSky};
@@ -235,7 +236,9 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   const ReprojectStats ss = r.run(b, from.image(), scalar.image());
   EXPECT_GT(ss.filled, 0u);
   EXPECT_GT(ss.disoccluded, 0u);
+  EXPECT_GT(ss.stale, 0u);
   EXPECT_EQ(sv.filled, ss.filled);
+  EXPECT_EQ(sv.stale, ss.stale);
   EXPECT_EQ(sv.disoccluded, ss.disoccluded);
   EXPECT_EQ(std::memcmp(vec.px.data(), scalar.px.data(), vec.px.size() * sizeof(DisplayPixel)), 0);
   EXPECT_EQ(std::memcmp(vec.points.data(), scalar.points.data(), vec.points.size() * sizeof(ScenePoint)), 0);
