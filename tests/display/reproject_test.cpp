@@ -193,6 +193,17 @@ TEST(Reproject, RepeatedStepsKeepTheImageWhole) {
 
 // Many holes (a wide step) take the by-rows search; it must pick exactly what the per-hole window
 // picks (the farthest landed pixel within reach, ties to the lower index), so the images match.
+// Two reprojections of one image gave the same result, bit for bit.
+void expect_same_image(const Synthetic& a, const ReprojectStats& sa, const Synthetic& b, const ReprojectStats& sb) {
+  EXPECT_EQ(sa.moved, sb.moved);
+  EXPECT_EQ(sa.filled, sb.filled);
+  EXPECT_EQ(sa.disoccluded, sb.disoccluded);
+  EXPECT_EQ(sa.stale, sb.stale);
+  EXPECT_EQ(std::memcmp(a.px.data(), b.px.data(), a.px.size() * sizeof(DisplayPixel)), 0);
+  EXPECT_EQ(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(ScenePoint)), 0);
+  EXPECT_EQ(a.marks, b.marks);
+}
+
 // Radius 3 (the default) takes the vector window where the build has AVX-512, radius 5 the
 // scalar one; both must pick what the row search picks.
 TEST(Reproject, RowSearchMatchesTheWindowSearch) {
@@ -209,11 +220,7 @@ TEST(Reproject, RowSearchMatchesTheWindowSearch) {
     r.set_search(Reprojector::Search::rows);
     const ReprojectStats sr = r.run(b, from.image(), rows.image(), true, radius);
     EXPECT_GT(sw.disoccluded, size_t(kW * kH) / 8);
-    EXPECT_EQ(sw.disoccluded, sr.disoccluded);
-    EXPECT_EQ(sw.filled, sr.filled);
-    EXPECT_EQ(std::memcmp(window.px.data(), rows.px.data(), window.px.size() * sizeof(DisplayPixel)), 0);
-    EXPECT_EQ(std::memcmp(window.points.data(), rows.points.data(), window.points.size() * sizeof(ScenePoint)), 0);
-    EXPECT_EQ(window.marks, rows.marks);
+    expect_same_image(window, sw, rows, sr);
   }
 }
 
@@ -237,12 +244,7 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   EXPECT_GT(ss.filled, 0u);
   EXPECT_GT(ss.disoccluded, 0u);
   EXPECT_GT(ss.stale, 0u);
-  EXPECT_EQ(sv.filled, ss.filled);
-  EXPECT_EQ(sv.stale, ss.stale);
-  EXPECT_EQ(sv.disoccluded, ss.disoccluded);
-  EXPECT_EQ(std::memcmp(vec.px.data(), scalar.px.data(), vec.px.size() * sizeof(DisplayPixel)), 0);
-  EXPECT_EQ(std::memcmp(vec.points.data(), scalar.points.data(), vec.points.size() * sizeof(ScenePoint)), 0);
-  EXPECT_EQ(vec.marks, scalar.marks);
+  expect_same_image(vec, sv, scalar, ss);
 }
 
 // The CPU budget is a leaky bucket: a reprojection that cost c at budget b waits c / b seconds.
