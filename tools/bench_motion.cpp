@@ -43,6 +43,9 @@ const bool registered = register_command(
                      "conventional's samples/s: the samples needed for its error (default "
                      "0.5,0.25,0.125; 0 runs none)")
           ->delimiter(',');
+      app.add_option("--budget", args->budget,
+                     "Reprojection budget of the budgeted row, a fraction of one core (default "
+                     "0.15: the display thread within 25 % in bench engine's 1280x720 move)");
       app.add_option("--alpha", args->alpha,
                      "Default frameless alpha: the headline setting (default 0.5)");
       app.add_option("--update-percent", args->percent, "Default update percentage (default 1)");

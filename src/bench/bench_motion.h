@@ -33,6 +33,8 @@ struct MotionOptions {
   // capped at these fractions of conventional's measured samples/s: the samples frameless needs
   // for the error of double buffering. Empty: skipped.
   std::vector<double> sample_fractions = {0.5, 0.25, 0.125};
+  // The budgeted row's reprojection budget, a fraction of one core (BlendConfig::reproject_budget).
+  double budget = kBenchReprojectBudget;
   bool quick = false;
 };
 

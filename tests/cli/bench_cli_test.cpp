@@ -2,6 +2,9 @@
 // there with sane values, and bad arguments get a one-line error. (No timing is asserted.)
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_test_util.h"
@@ -43,6 +46,18 @@ TEST(BenchCli, EngineBadArgumentsAreOneLine) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
+  }
+}
+
+// Checked before anything is run or written: no output directory appears.
+TEST(BenchCli, MotionBadArgumentsAreOneLine) {
+  const std::filesystem::path out = std::filesystem::temp_directory_path() / "frameless_motion_bad_args";
+  std::filesystem::remove_all(out);
+  for (const std::string flags : {"--budget 0", "--budget 1.5", "--budget nan", "--budget x"}) {
+    const CommandResult r = run_frameless("bench motion --quick " + flags + " --out " + out.string());
+    EXPECT_NE(r.exit_code, 0) << flags;
+    EXPECT_EQ(count_lines(r.output), 1) << flags << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << flags;
   }
 }
 
