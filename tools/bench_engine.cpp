@@ -21,6 +21,9 @@ const bool registered = register_command(
       app.add_option("--repeats", args->repeats,
                      "Repetitions of each measurement (throughput pairs interleaved); medians "
                      "are reported (default 3)");
+      app.add_option("--budget", args->budget,
+                     "Reprojection budget measured beside the unlimited default, a fraction of "
+                     "one core (default 0.15)");
       app.add_flag("--json", args->json, "Print JSON");
       return [args]() { return bench::run_engine(*args); };
     });

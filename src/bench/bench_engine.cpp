@@ -145,6 +145,7 @@ int run_engine(const EngineBenchOptions& a) {
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
+  if (!(a.budget > 0 && a.budget <= 1)) return report_error("--budget: must be in (0, 1]");
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   EngineConfig c;
@@ -199,7 +200,7 @@ int run_engine(const EngineBenchOptions& a) {
       cpu_still_reproject.push_back(still_cache.cpu_fraction);
       cpu_moving.push_back(moving.cpu_fraction);
       cpu_reproject.push_back(cache.cpu_fraction);
-      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, kBenchReprojectBudget);
+      const DisplayCost budget = display_cpu(*scene, c, camera, a.seconds, true, true, float(a.budget));
       cpu_budget.push_back(budget.cpu_fraction);
       reproj_rate_budget.push_back(budget.reprojections_per_s);
       cpu_reproject_part.push_back(cache.reproject_fraction);
@@ -247,6 +248,7 @@ int run_engine(const EngineBenchOptions& a) {
     j["display_cpu_fraction_moving"] = median(cpu_moving);
     j["display_cpu_fraction_moving_reproject"] = median(cpu_reproject);
     j["display_cpu_fraction_moving_reproject_budget"] = median(cpu_budget);
+    j["reproject_budget"] = a.budget;
     j["display_reprojections_per_s_budget"] = median(reproj_rate_budget);
     j["display_reproject_cpu_fraction"] = median(cpu_reproject_part);
     j["display_reprojections_per_s"] = median(reproj_rate);
@@ -273,9 +275,9 @@ int run_engine(const EngineBenchOptions& a) {
                   "(%.2f%% reprojecting, %.1f reprojections/s); still camera with reprojection on %.2f%%\n",
                   100.0 * median(cpu_moving), 100.0 * median(cpu_reproject),
                   100.0 * median(cpu_reproject_part), median(reproj_rate), 100.0 * median(cpu_still_reproject));
-      std::printf("  with a reprojection budget of 15%% of a core (--reproject-budget 0.15): %.2f%% of one "
+      std::printf("  with a reprojection budget of %g%% of a core (--reproject-budget %g): %.2f%% of one "
                   "core, %.1f reprojections/s\n",
-                  100.0 * median(cpu_budget), median(reproj_rate_budget));
+                  100.0 * a.budget, a.budget, 100.0 * median(cpu_budget), median(reproj_rate_budget));
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

@@ -15,6 +15,8 @@ struct EngineBenchOptions {
   int threads = 0;
   double seconds = 2.0;
   int repeats = 3;
+  // The reprojection budget measured beside the unlimited default, a fraction of one core.
+  double budget = kBenchReprojectBudget;
   bool json = false;
 };
 

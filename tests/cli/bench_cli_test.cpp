@@ -41,8 +41,8 @@ TEST(BenchCli, EngineJsonHasTheNamedKeys) {
 }
 
 TEST(BenchCli, EngineBadArgumentsAreOneLine) {
-  for (const char* args : {"bench engine --size 0x48", "bench engine --seconds -1",
-                           "bench engine no_such_scene.json"}) {
+  for (const char* args : {"bench engine --size 0x48", "bench engine --seconds -1", "bench engine --budget 0",
+                           "bench engine --budget 2", "bench engine no_such_scene.json"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
