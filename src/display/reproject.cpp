@@ -45,10 +45,20 @@ uint32_t Reprojector::farther(uint32_t a, uint32_t b) const {
   return db > da || (db == da && b < a) ? b : a;
 }
 
+// Whether farthest_in_window takes a window row (at most 7 keys) per vector compare.
+bool Reprojector::vector_window(int r) const {
+#if defined(__AVX512F__)
+  return vectorized_ && r <= 3;
+#else
+  (void)r;
+  return false;
+#endif
+}
+
 // The farthest landed pixel within r of (x, y), one window per hole.
 uint32_t Reprojector::farthest_in_window(int x, int y, int w, int h, int r) const {
 #if defined(__AVX512F__)
-  if (vectorized_ && r <= 3) {  // a row of the window (at most 7 keys) in one vector: the hot path of large moves
+  if (vector_window(r)) {  // a row of the window (at most 7 keys) in one vector: the hot path of large moves
     const int x0 = std::max(0, x - r), x1 = std::min(w - 1, x + r);
     const __mmask8 lanes = __mmask8((1u << (x1 - x0 + 1)) - 1u);
     const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
@@ -143,9 +153,9 @@ size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
     const __m512 dx = _mm512_mask_sub_ps(px, not_sky, px, _mm512_set1_ps(pr.eye.x));
     const __m512 dy = _mm512_mask_sub_ps(py, not_sky, py, _mm512_set1_ps(pr.eye.y));
     const __m512 dz = _mm512_mask_sub_ps(pz, not_sky, pz, _mm512_set1_ps(pr.eye.z));
-    const auto dot = [&](const Vec3& v) {
-      return _mm512_fmadd_ps(dz, _mm512_set1_ps(v.z),
-                             _mm512_fmadd_ps(dy, _mm512_set1_ps(v.y), _mm512_mul_ps(dx, _mm512_set1_ps(v.x))));
+    const auto dot = [&](const Vec3& v) {  // dot_exact's order: z's product, then y and x fused
+      return _mm512_fmadd_ps(dx, _mm512_set1_ps(v.x),
+                             _mm512_fmadd_ps(dy, _mm512_set1_ps(v.y), _mm512_mul_ps(dz, _mm512_set1_ps(v.z))));
     };
     const __m512 z = dot(pr.w);
     const __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), z);
@@ -240,13 +250,9 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
   // farthest landed pixel within `max_fill` pixels; none there: it keeps its old content.
   fills_.clear();
-#if defined(__AVX512F__)
-  const bool vector_window = vectorized_ && max_fill <= 3;  // cheaper than the rows at any count
-#else
-  const bool vector_window = false;
-#endif
+  // The vector window is cheaper than the rows at any number of holes.
   const bool by_rows =
-      search_ == Search::rows || (search_ == Search::automatic && !vector_window && next_.size() > n / 8);
+      search_ == Search::rows || (search_ == Search::automatic && !vector_window(max_fill) && next_.size() > n / 8);
   if (by_rows) {  // many holes (large steps: an edge band of new view)
     row_best_.resize(n);
     row_done_.assign(size_t(h), 0);

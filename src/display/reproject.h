@@ -6,27 +6,16 @@
 // whole. Works in the display's slot order.
 #pragma once
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "core/camera.h"
+#include "core/intersect_fp.h"
 #include "display/display_pixel.h"
 #include "frameless/pixel_points.h"
 
 namespace frameless {
-
-// a * b + c, fused where the target has FMA, so the scalar projection and its vector form in the
-// splat round alike (a compiler left to contract on its own may pick other products).
-inline float mul_add(float a, float b, float c) {
-#if defined(__FMA__)
-  return std::fma(a, b, c);
-#else
-  return a * b + c;
-#endif
-}
-inline float dot3(const Vec3& a, const Vec3& b) { return mul_add(a.z, b.z, mul_add(a.y, b.y, a.x * b.x)); }
 
 // camera_ray inverted, with its constants folded: for d = point - eye, z = w.d, the pixel
 // position is (cx + x.d / z, cy - y.d / z) (sx = (2 px / W - 1) tan_half aspect, sy = (1 - 2 py / H) tan_half).
@@ -43,11 +32,12 @@ struct Projector {
     if (point.object == kPointNone) return false;
     const bool sky = point.object == kPointSky;
     const Vec3 d = sky ? point.p : point.p - eye;
-    const float z = dot3(d, w);
+    // Explicitly fused (core/intersect_fp.h), so the splat's vector form rounds alike.
+    const float z = dot_exact(d, w);
     if (!(z > 0.0f)) return false;  // behind the eye (or NaN)
     const float inv = 1.0f / z;
-    px = mul_add(dot3(d, x), inv, cx);
-    py = mul_add(-dot3(d, y), inv, cy);
+    px = fmadd(dot_exact(d, x), inv, cx);
+    py = fmadd(-dot_exact(d, y), inv, cy);
     depth = sky ? std::numeric_limits<float>::infinity() : z;
     return px >= 0.0f && px < width && py >= 0.0f && py < height;
   }
@@ -128,6 +118,7 @@ class Reprojector {
 
  private:
   uint32_t farther(uint32_t a, uint32_t b) const;
+  bool vector_window(int r) const;
   size_t splat16(const Projector& project, const SlotImage& from, int w);
   uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
