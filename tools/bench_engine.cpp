@@ -24,6 +24,9 @@ const bool registered = register_command(
       app.add_option("--budget", args->budget,
                      "Reprojection budget measured beside the unlimited default, a fraction of "
                      "one core (default 0.15)");
+      app.add_option("--moving-sizes", args->moving_sizes,
+                     "Also measure the display thread during the move with reprojection at these "
+                     "sizes WxH (default: 1280x720 only)");
       app.add_flag("--json", args->json, "Print JSON");
       return [args]() { return bench::run_engine(*args); };
     });

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -82,9 +84,10 @@ struct DisplayCost {
 // `moving`: a camera orbiting 15 degrees a second, published at 30 Hz, during the measurement;
 // `reproject`: the display moves its image at every camera change (the render cache).
 DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds,
-                        bool moving = false, bool reproject = false, float budget = 0.0f) {
-  c.width = 1280;
-  c.height = 720;
+                        bool moving = false, bool reproject = false, float budget = 0.0f,
+                        int width = 1280, int height = 720) {
+  c.width = width;
+  c.height = height;
   Engine e(scene, c, camera);
   DisplayConfig dc;
   dc.refresh_hz = 60;
@@ -146,6 +149,13 @@ int run_engine(const EngineBenchOptions& a) {
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
   if (!(a.budget > 0 && a.budget <= 1)) return report_error("--budget: must be in (0, 1]");
+  std::vector<std::pair<int, int>> moving_sizes;
+  for (const std::string& size : a.moving_sizes) {
+    int w = 0, h = 0;
+    if (!parse_size(size, w, h, error))  // its message names --size
+      return report_error("--moving-sizes" + error.substr(error.find(':')));
+    moving_sizes.emplace_back(w, h);
+  }
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   EngineConfig c;
@@ -206,6 +216,26 @@ int run_engine(const EngineBenchOptions& a) {
       cpu_reproject_part.push_back(cache.reproject_fraction);
       reproj_rate.push_back(cache.reprojections_per_s);
     }
+    // The moving display with reprojection at further sizes (its cost grows with the pixels).
+    nlohmann::json by_size = nlohmann::json::array();
+    for (const auto& [w, h] : moving_sizes) {
+      std::vector<double> size_cpu, size_rate, size_part;
+      for (int k = 0; k < std::max(1, a.repeats); ++k) {
+        note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
+              ", camera moving at 30 Hz, with reprojection").c_str());
+        const DisplayCost m = display_cpu(*scene, c, camera, a.seconds, true, true, 0.0f, w, h);
+        size_cpu.push_back(m.cpu_fraction);
+        size_rate.push_back(m.reprojections_per_s);
+        size_part.push_back(m.reproject_fraction);
+      }
+      const double rate = median(size_rate), part = median(size_part);
+      by_size.push_back({{"width", w},
+                         {"height", h},
+                         {"display_cpu_fraction", median(size_cpu)},
+                         {"reproject_cpu_fraction", part},
+                         {"reprojections_per_s", rate},
+                         {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0}});
+    }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
     std::vector<double> p50, p95, p100, ideal;
@@ -253,6 +283,7 @@ int run_engine(const EngineBenchOptions& a) {
     j["display_reproject_cpu_fraction"] = median(cpu_reproject_part);
     j["display_reprojections_per_s"] = median(reproj_rate);
     j["display_cpu_fraction_still_reproject"] = median(cpu_still_reproject);
+    j["display_moving_reproject_by_size"] = by_size;
     j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
     j["latency_ideal_ms"] = median(ideal);
     j["latency_repeats"] = p50.size();
@@ -278,6 +309,12 @@ int run_engine(const EngineBenchOptions& a) {
       std::printf("  with a reprojection budget of %g%% of a core (--reproject-budget %g): %.2f%% of one "
                   "core, %.1f reprojections/s\n",
                   100.0 * a.budget, a.budget, 100.0 * median(cpu_budget), median(reproj_rate_budget));
+      for (const nlohmann::json& m : by_size)
+        std::printf("  moving with reprojection at %dx%d: %.2f%% of one core (%.2f%% reprojecting, %.1f "
+                    "reprojections/s, %.1f ms each)\n",
+                    m["width"].get<int>(), m["height"].get<int>(), 100.0 * m["display_cpu_fraction"].get<double>(),
+                    100.0 * m["reproject_cpu_fraction"].get<double>(), m["reprojections_per_s"].get<double>(),
+                    m["ms_per_reprojection"].get<double>());
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

@@ -14,7 +14,7 @@ namespace {
 
 TEST(BenchCli, EngineJsonHasTheNamedKeys) {
   const CommandResult r = run_frameless(
-      "bench engine default --json --size 64x48 --threads 2 --seconds 0.2 --repeats 1");
+      "bench engine default --json --size 64x48 --threads 2 --seconds 0.2 --repeats 1 --moving-sizes 96x64");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
   ASSERT_FALSE(j.is_discarded()) << r.output;
@@ -36,13 +36,22 @@ TEST(BenchCli, EngineJsonHasTheNamedKeys) {
   EXPECT_LE(p50, p95);
   EXPECT_LE(p95, p100);
   EXPECT_GT(j["latency_ideal_ms"].get<double>(), 0.0);
+  // The further size of --moving-sizes, measured with reprojection on.
+  ASSERT_EQ(j["display_moving_reproject_by_size"].size(), 1u) << r.output;
+  const auto& m = j["display_moving_reproject_by_size"][0];
+  EXPECT_EQ(m["width"], 96);
+  EXPECT_EQ(m["height"], 64);
+  EXPECT_GE(m["display_cpu_fraction"].get<double>(), 0.0);
+  EXPECT_LT(m["display_cpu_fraction"].get<double>(), 1.0);
+  EXPECT_GE(m["reprojections_per_s"].get<double>(), 0.0);
   EXPECT_EQ(j["width"], 64);
   EXPECT_EQ(j["threads"], 2);
 }
 
 TEST(BenchCli, EngineBadArgumentsAreOneLine) {
   for (const char* args : {"bench engine --size 0x48", "bench engine --seconds -1", "bench engine --budget 0",
-                           "bench engine --budget 2", "bench engine no_such_scene.json"}) {
+                           "bench engine --budget 2", "bench engine no_such_scene.json",
+                           "bench engine --moving-sizes 640x0", "bench engine --moving-sizes 640x360 big"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
