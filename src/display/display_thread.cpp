@@ -88,10 +88,10 @@ struct PixelImage {
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
   SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
-                  const PixelPoint* engine_points = nullptr) {
+                  const PixelPoint* engine_points = nullptr, const PixelState* engine_states = nullptr) {
     return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
             layout ? layout->slot_of.data() : nullptr,
-            px.data(),   points.data(), marks.data(), engine_points};
+            px.data(),   points.data(), marks.data(), engine_points, engine_states};
   }
 };
 
@@ -188,7 +188,10 @@ struct DisplayThread::Impl {
   std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
   ChangeHistory history;  // what the last ticks changed
   // Reprojection: the camera the image was last moved to (epoch 0: none yet) and scratch.
+  // image_moved: the image was moved since reprojection (re)started; until then it shows its
+  // updates where they were rendered, so older cameras' updates are not redirected.
   uint32_t reproject_epoch = 0;
+  bool image_moved = false;
   CameraBasis reproject_basis;
   Reprojector reprojector;
   PixelImage reprojected;
@@ -251,7 +254,14 @@ struct DisplayThread::Impl {
       if (p.epoch != 0) count_epoch(0, p.epoch);
   }
   bool reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
-                 const PixelPoint* engine_points);
+                 const PixelPoint* engine_points, const PixelState* engine_states);
+  // Forgets what reprojection knew of the image (its points, marks and camera).
+  void reset_reprojection() {
+    points.clear();
+    marks.clear();
+    reproject_epoch = 0;
+    image_moved = false;
+  }
 
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
@@ -272,6 +282,7 @@ struct TickSink final : UpdateSink {
   PixelImage* image = nullptr;
   const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
   const PixelPoint* points = nullptr;            // the engine's, by pixel (reprojection only)
+  const PixelState* states = nullptr;            // the engine's, by slot (reprojection only)
   WantedRuns* wanted = nullptr;                  // closed-loop sampling: where to ask (else null)
   bool asked = false;                            // asked for something since the last publish
   std::vector<SlotRun>* dirty = nullptr;
@@ -306,7 +317,8 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points)) {
+  states = reproject ? r.states : nullptr;
+  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points, r.states)) {
     full = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
@@ -354,8 +366,13 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
   const size_t slot = image->slot_of(pixel);
   uint8_t& mark = d.marks[pixel];
-  // A marked pixel shows moved content with its moved point; an unmarked one its own newest update.
-  const ScenePoint shown = mark ? d.points[pixel] : load_point(points[pixel]);
+  // A marked pixel shows moved content with its moved point; an unmarked one its own newest
+  // update (a point its owner keeps rewriting: leave the pixel as it is).
+  ScenePoint shown;
+  if (mark)
+    shown = d.points[pixel];
+  else if (!read_point(states[slot], points[pixel], shown))
+    return;
   float sx, sy, shown_depth;
   const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
   if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
@@ -382,9 +399,12 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
     const size_t pixel = image->pixel_of(first + i);
     uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
     if (points) {
-      if (u.epoch < d.reproject_epoch) {
-        // Read after the state's seq: this point is the update's or a newer one's.
-        redirect(u, load_point(points[pixel]));
+      if (u.epoch < d.reproject_epoch && d.image_moved) {
+        // The update's own point (read in the same sequence lock); if a newer update has replaced
+        // it, that one is collected at the next tick instead.
+        ScenePoint point;
+        uint32_t point_seq = 0;
+        if (read_point(states[i], points[pixel], point, &point_seq) && point_seq == u.seq) redirect(u, point);
         continue;
       }
       mark = &d.marks[pixel];
@@ -477,6 +497,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
   if (r.reset || newest > 2 || buf[newest].width != r.width || buf[newest].height != r.height) {
     shown_seq.assign(n, 0);
     img.reset(r.width, r.height, layout);
+    reset_reprojection();  // a cleared or resized image has no points (same pixel count or not)
     epoch_tag.assign(kEpochRing, 0);
     epoch_count.assign(kEpochRing, 0);
     return true;
@@ -504,23 +525,22 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
 bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
-                                    const PixelPoint* engine_points) {
+                                    const PixelPoint* engine_points, const PixelState* engine_states) {
   if (!enabled) {
-    points.clear();
-    marks.clear();
-    reproject_epoch = 0;
+    reset_reprojection();
     return false;
   }
-  if (points.size() != img.pixels()) {  // just turned on, or resized: nothing shown has a point yet
+  if (points.size() != img.pixels()) {  // just turned on, or cleared: nothing shown has a point yet
+    reset_reprojection();
     points.assign(img.pixels(), ScenePoint{});
     marks.assign(img.pixels(), kMarkNone);
-    reproject_epoch = 0;
   }
   uint32_t epoch = 0;
   const Camera camera = engine.camera(&epoch);
   if (epoch == reproject_epoch) return false;  // a still camera is never reprojected
   // Over budget: this change merges into a later one (deterministic runs ignore the clock).
-  if (budget > 0.0f && reproject_epoch != 0 && !engine.config().deterministic &&
+  if (!(budget > 0.0f) || engine.config().deterministic) budget = 0.0f;  // unlimited: no credit kept
+  if (budget > 0.0f && reproject_epoch != 0 &&
       !reproject_budget.allow(
           std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(), budget))
     return false;
@@ -539,8 +559,9 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
   // engine's point of its newest update (read by the reprojection).
-  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points),
+  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points, engine_states),
                                             out.slots(points_out, marks_out), world_moves);
+  image_moved = true;
   std::swap(img.px, out.px);
   std::swap(points, points_out);
   std::swap(marks, marks_out);
@@ -552,7 +573,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   t.disoccluded += st.disoccluded;
   t.stale += st.stale;
   const double cost = thread_cpu_seconds() - c0;
-  reproject_budget.spend(cost);
+  reproject_budget.spend(cost, budget);
   t.cpu_seconds += cost;
   return true;
 }

@@ -34,6 +34,15 @@ inline uint64_t make_key(float depth, uint32_t source) {
   return uint64_t(bits) << 32 | source;
 }
 
+// The engine's point of unmarked pixel p, all of it from one update: a point its owner keeps
+// rewriting counts as none (the pixel moves nowhere this time; its next update is shown in place).
+inline ScenePoint engine_point(const SlotImage& img, size_t p) {
+  if (!img.engine_states) return load_point(img.engine_points[p]);
+  ScenePoint out;
+  if (!read_point(img.engine_states[img.slot(p)], img.engine_points[p], out)) out = ScenePoint{};
+  return out;
+}
+
 }  // namespace
 
 // The farther of two landed pixels (kNone: none); a tie goes to the lower pixel index, so both
@@ -137,7 +146,7 @@ size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
     if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
       const __m128i marks = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p));
       for (unsigned m = _mm_cmpeq_epi8_mask(marks, _mm_setzero_si128()); m; m &= m - 1u)
-        from.points[p + __builtin_ctz(m)] = load_point(from.engine_points[p + __builtin_ctz(m)]);
+        from.points[p + __builtin_ctz(m)] = engine_point(from, p + __builtin_ctz(m));
     }
     const float* f = reinterpret_cast<const float*>(from.points + p);
     const __m512 a = _mm512_loadu_ps(f), b = _mm512_loadu_ps(f + 16), c = _mm512_loadu_ps(f + 32),
@@ -195,7 +204,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   if (vectorized_) p0 = splat16(project, from, w);
 #endif
   for (size_t p = p0; p < n; ++p) {
-    if (from.engine_points && !from.marks[p]) from.points[p] = load_point(from.engine_points[p]);
+    if (from.engine_points && !from.marks[p]) from.points[p] = engine_point(from, p);
     float px, py, d;
     if (!project(from.points[p], px, py, d)) continue;
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));

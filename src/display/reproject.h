@@ -50,6 +50,7 @@ inline bool project_point(const CameraBasis& to, const ScenePoint& point, float&
 // The display's CPU budget for reprojection, a leaky bucket: credit fills at `budget` seconds of
 // CPU per second of wall time, at most one reprojection's cost ahead; a reprojection spends its
 // CPU time; none starts while the credit is negative (its camera change merges into a later one).
+// Without a budget nothing is spent, so turning one on later starts from no debt.
 class ReprojectBudget {
  public:
   // Whether a reprojection may start at wall time `now` (seconds); budget <= 0: always.
@@ -59,9 +60,9 @@ class ReprojectBudget {
     last_ = now;
     return credit_ >= 0.0;
   }
-  void spend(double cpu_seconds) {
+  void spend(double cpu_seconds, float budget) {
     cost_ = cpu_seconds;
-    credit_ -= cpu_seconds;
+    if (budget > 0.0f) credit_ -= cpu_seconds;
   }
 
  private:
@@ -80,7 +81,8 @@ struct ReprojectStats {
 // The display image: pixels by slot (slot s holds pixel pixel_of[s], identity when null), points
 // and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
 // update there, so its point is read from `engine_points` when set (the reprojection copies it
-// into `points`); a marked pixel shows moved content, whose point is in `points`.
+// into `points`; inside the state's sequence lock when `engine_states` is set, else as it is); a
+// marked pixel shows moved content, whose point is in `points`.
 struct SlotImage {
   int width = 0;
   int height = 0;
@@ -90,6 +92,7 @@ struct SlotImage {
   ScenePoint* points = nullptr;
   uint8_t* marks = nullptr;
   const PixelPoint* engine_points = nullptr;
+  const PixelState* engine_states = nullptr;  // by slot: engine points are read inside their seqlock
   size_t pixels() const { return size_t(width) * size_t(height); }
   uint32_t slot(size_t pixel) const { return slot_of ? slot_of[pixel] : uint32_t(pixel); }
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }

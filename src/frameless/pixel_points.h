@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/render_sample.h"
+#include "frameless/pixel_state.h"
 
 namespace frameless {
 
@@ -29,12 +30,32 @@ inline void store_point(PixelPoint& slot, const SampleResult& r) {
   slot.object.store(r.object, std::memory_order_relaxed);
 }
 
-// Display thread: the point of the update it just read, or a newer one's.
+// Display thread: the point of the update it just read, or a newer one's. Its components may
+// come from two updates; read_point() rules that out.
 inline ScenePoint load_point(const PixelPoint& slot) {
   ScenePoint s;
   for (int c = 0; c < 3; ++c) s.p[c] = slot.p[c].load(std::memory_order_relaxed);
   s.object = slot.object.load(std::memory_order_relaxed);
   return s;
+}
+
+// Display thread: the point of the pixel's newest update, read inside its state's sequence lock
+// as read_pixel() reads the state (the owner stores the point inside its publish), so every
+// component comes from one update (whose sequence number goes to *seq). False while the owner
+// keeps rewriting it.
+inline bool read_point(const PixelState& state, const PixelPoint& slot, ScenePoint& out,
+                       uint32_t* seq = nullptr, int max_tries = 16) {
+  for (int i = 0; i < max_tries; ++i) {
+    const uint32_t s0 = state.seq.load(std::memory_order_acquire);
+    if (s0 & 1u) continue;
+    out = load_point(slot);
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (state.seq.load(std::memory_order_relaxed) == s0) {
+      if (seq) *seq = s0;
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace frameless

@@ -239,7 +239,9 @@ uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, d
   while (w.asked_next < w.asked.size()) {
     const FramelessWorker::AskedRun run = w.asked[w.asked_next++];
     pos0 = run.pos;
-    len = std::min<size_t>({kRunLength, list.size() - pos0, size_t(budget)});
+    // A run that began in the previous thread's list (thread lists need not start on a run
+    // boundary) ends kRunLength slots after its start, not after this list's first slot.
+    len = std::min<size_t>({kRunLength - (w.first_slot + pos0) % kRunLength, list.size() - pos0, size_t(budget)});
     bool since = true;  // every pixel of the run updated since it was queued
     for (size_t k = 0; k < len && since; ++k)
       since = e.states[w.first_slot + pos0 + k].time.load(std::memory_order_relaxed) > run.time;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <chrono>
 #include <cstring>
@@ -251,18 +252,73 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
 TEST(Reproject, BudgetSpacesReprojectionsByTheirCost) {
   ReprojectBudget budget;
   EXPECT_TRUE(budget.allow(10.0, 0.25f));
-  budget.spend(0.05);                       // 50 ms of CPU: the next one waits 200 ms
+  budget.spend(0.05, 0.25f);                // 50 ms of CPU: the next one waits 200 ms
   EXPECT_FALSE(budget.allow(10.1, 0.25f));
   EXPECT_FALSE(budget.allow(10.19, 0.25f));
   EXPECT_TRUE(budget.allow(10.201, 0.25f));
-  budget.spend(0.05);
+  budget.spend(0.05, 0.25f);
   // A long pause banks at most one reprojection's cost: two in a row are not allowed after it.
   EXPECT_TRUE(budget.allow(100.0, 0.25f));
-  budget.spend(0.05);
+  budget.spend(0.05, 0.25f);
   EXPECT_TRUE(budget.allow(100.0, 0.25f));
-  budget.spend(0.05);
+  budget.spend(0.05, 0.25f);
   EXPECT_FALSE(budget.allow(100.0, 0.25f));
   EXPECT_TRUE(budget.allow(100.0, 0.0f));  // no budget: always
+}
+
+// Reprojections without a budget leave no debt: a budget turned on later (set_config) allows the
+// next one at once and then spaces them, instead of waiting out the CPU of every earlier one.
+TEST(Reproject, UnlimitedReprojectionsBankNoDebt) {
+  ReprojectBudget budget;
+  for (int k = 0; k < 1000; ++k) budget.spend(0.02, 0.0f);  // 20 s of CPU, unlimited
+  EXPECT_TRUE(budget.allow(50.0, 0.25f));
+  budget.spend(0.02, 0.25f);
+  EXPECT_FALSE(budget.allow(50.01, 0.25f));
+  EXPECT_TRUE(budget.allow(50.081, 0.25f));
+}
+
+// Points are read inside their state's sequence lock: none while the owner writes, and a stable
+// one with its update's sequence number. Against a writer that keeps alternating two points,
+// every read is one of them whole (a plain load_point mixes their components).
+TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
+  PixelState state;
+  PixelPoint slot;
+  SampleResult near_hit, sky;
+  near_hit.position = Vec3(1.0f, 2.0f, 3.0f);
+  near_hit.object = kPointStatic;
+  sky.position = Vec3(-40.0f, 50.0f, -60.0f);
+  sky.object = kPointSky;
+  const double mean[3] = {0.0, 0.0, 0.0};
+  const auto publish = [&](const SampleResult& r) {
+    return publish_state(state, 1, 1, mean, 0.0, Vec3(0.5f), 0.0f, [&] { store_point(slot, r); });
+  };
+  const uint32_t seq = publish(near_hit);
+  ScenePoint p;
+  uint32_t s = 0;
+  ASSERT_TRUE(read_point(state, slot, p, &s));
+  EXPECT_EQ(s, seq);
+  EXPECT_EQ(p.object, kPointStatic);
+  EXPECT_EQ(p.p, near_hit.position);
+  state.seq.store(seq + 1);  // the owner is writing the next update
+  EXPECT_FALSE(read_point(state, slot, p));
+  state.seq.store(seq);
+
+  std::atomic<bool> stop{false};
+  std::thread writer([&] {
+    for (uint32_t k = 0; !stop.load(std::memory_order_relaxed); ++k) publish(k % 2 ? sky : near_hit);
+  });
+  size_t reads = 0, torn = 0;
+  for (int k = 0; k < 200000; ++k) {
+    if (!read_point(state, slot, p)) continue;
+    ++reads;
+    const bool whole = (p.object == kPointStatic && p.p == near_hit.position) ||
+                       (p.object == kPointSky && p.p == sky.position);
+    torn += !whole;
+  }
+  stop = true;
+  writer.join();
+  EXPECT_GT(reads, 0u);
+  EXPECT_EQ(torn, 0u) << "of " << reads << " reads";
 }
 
 // The display thread on the default scene, deterministic.
@@ -314,6 +370,45 @@ TEST(ReprojectDisplay, StillCameraNeverReprojectedMovingOncePerChange) {
   run.engine->publish_camera(orbit(c0, 6.0f));
   run.steps(1);
   EXPECT_EQ(run.display->stats().reproject.reprojections, 2u);
+}
+
+// An image cleared by a resize keeps none of the old points and marks, even at the same pixel
+// count (64x48 -> 48x64): the next reprojection moves only what was rendered since.
+TEST(ReprojectDisplay, AResizeForgetsTheOldPointsAtTheSamePixelCount) {
+  DisplayRun run(true, nullptr, kW * kH / 16);
+  run.steps(24);
+  const Camera c0 = run.scene->camera;
+  run.engine->publish_camera(orbit(c0, 3.0f));
+  run.steps(2);
+  ASSERT_EQ(run.display->stats().reproject.reprojections, 1u);
+  run.engine->resize(kH, kW);
+  run.steps(1);
+  const size_t moved0 = run.display->stats().reproject.moved;
+  run.engine->publish_camera(orbit(c0, 6.0f));
+  run.steps(1);
+  ASSERT_EQ(run.display->stats().reproject.reprojections, 2u);
+  // About one tick of samples (a sixteenth of the pixels) since the resize.
+  EXPECT_LT(run.display->stats().reproject.moved - moved0, size_t(kW * kH) / 4);
+}
+
+// Reprojection turned on while the camera moves: until the image is first moved, updates of an
+// older camera are shown where they were rendered (the image is still in their view), not
+// redirected; after the first move they are.
+TEST(ReprojectDisplay, OlderUpdatesAreRedirectedOnlyOnceTheImageMoved) {
+  DisplayRun run(false, nullptr, kW * kH / 16);
+  run.steps(8);
+  const Camera c0 = run.scene->camera;
+  run.engine->publish_camera(orbit(c0, 3.0f));
+  DisplayConfig on;
+  on.blend.reproject = true;
+  run.display->set_config(on);
+  run.steps(3);
+  EXPECT_EQ(run.display->stats().reproject.reprojections, 0u);
+  EXPECT_EQ(run.display->stats().reproject.redirected, 0u);
+  run.engine->publish_camera(orbit(c0, 6.0f));
+  run.steps(3);
+  EXPECT_EQ(run.display->stats().reproject.reprojections, 1u);
+  EXPECT_GT(run.display->stats().reproject.redirected, 0u);
 }
 
 // Coverage (the share of pixels whose newest sample used the newest camera) stays exact across
