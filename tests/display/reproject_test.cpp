@@ -278,8 +278,9 @@ TEST(Reproject, UnlimitedReprojectionsBankNoDebt) {
 }
 
 // Points are read inside their state's sequence lock: none while the owner writes, and a stable
-// one with its update's sequence number. Against a writer that keeps alternating two points,
-// every read is one of them whole (a plain load_point mixes their components).
+// one with its update's sequence number. Against a writer that keeps alternating two points and
+// pauses between their components (as a preempted render thread does), every read is one of them
+// whole (a plain load_point mixes their components).
 TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
   PixelState state;
   PixelPoint slot;
@@ -305,7 +306,16 @@ TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
 
   std::atomic<bool> stop{false};
   std::thread writer([&] {
-    for (uint32_t k = 0; !stop.load(std::memory_order_relaxed); ++k) publish(k % 2 ? sky : near_hit);
+    for (uint32_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
+      const SampleResult& r = k % 2 ? sky : near_hit;
+      publish_state(state, 1, 1, mean, 0.0, Vec3(0.5f), 0.0f, [&] {
+        for (int c = 0; c < 3; ++c) {
+          slot.p[c].store(r.position[c], std::memory_order_relaxed);
+          for (int spin = 0; spin < 64; ++spin) (void)stop.load(std::memory_order_relaxed);
+        }
+        slot.object.store(r.object, std::memory_order_relaxed);
+      });
+    }
   });
   size_t reads = 0, torn = 0;
   for (int k = 0; k < 200000; ++k) {
