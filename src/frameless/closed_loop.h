@@ -7,9 +7,10 @@
 //
 // Exchange, race-free without a lock on the render path: the display sets a run's flag (relaxed)
 // and then bumps the generation (release); a render thread that sees a new generation at its
-// camera pick-up (acquire) scans its own runs' flags and queues them; it clears a flag when it
-// renders the run, and announces the run in its ring (entries relaxed, head release), from which
-// the display learns which slots changed out of walk order.
+// camera pick-up (acquire) scans its own runs' flags and queues them, clearing its part of each
+// flag (an atomic and: a run may span two threads' lists); it announces each run it renders in
+// its ring (entries relaxed, head release), from which the display learns which slots changed
+// out of walk order.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -32,6 +33,14 @@ struct alignas(64) PriorityRing {
   }
 };
 
+// A run's flag holds a bit per part of it still asked for. A run inside one thread's list is one
+// part; a run across lists (they need not start on a run boundary) has a part in each, named by
+// whether it begins before that list and goes on after it, and each thread clears only its own.
+inline constexpr uint8_t kAskedAllParts = 0x0F;
+inline uint8_t run_part_bit(bool begins_before_list, bool goes_on_after_list) {
+  return uint8_t(1u << ((begins_before_list ? 1u : 0u) | (goes_on_after_list ? 2u : 0u)));
+}
+
 // The flags the display sets, one per run of slots, and the generation that says some were set.
 struct WantedRuns {
   std::unique_ptr<std::atomic<uint8_t>[]> flags;
@@ -44,7 +53,7 @@ struct WantedRuns {
   // Display thread: ask for the run holding `slot` (call publish() once after a batch of asks).
   void want(size_t slot) {
     std::atomic<uint8_t>& f = flags[slot / kRunLength];
-    if (!f.load(std::memory_order_relaxed)) f.store(1, std::memory_order_relaxed);
+    if (f.load(std::memory_order_relaxed) != kAskedAllParts) f.store(kAskedAllParts, std::memory_order_relaxed);
   }
   void publish() { generation.fetch_add(1, std::memory_order_release); }
 };

@@ -222,8 +222,11 @@ void scan_asked(Engine::Impl& e, FramelessWorker& w, float now) {
   if (end == first) return;
   for (size_t r = first / kRunLength; r <= (end - 1) / kRunLength; ++r) {
     std::atomic<uint8_t>& f = e.wanted.flags[r];
-    if (!f.load(std::memory_order_relaxed)) continue;
-    f.store(0, std::memory_order_relaxed);
+    // Lists need not start or end on a run boundary: this thread queues and clears its part.
+    const size_t run_first = r * kRunLength;
+    const uint8_t part = run_part_bit(run_first < first, run_first + kRunLength > end && end < e.pixel_count);
+    if (!(f.load(std::memory_order_relaxed) & part)) continue;
+    f.fetch_and(uint8_t(~part), std::memory_order_relaxed);
     w.asked.push_back({uint32_t(std::max(r * kRunLength, first) - first), now});
   }
 }

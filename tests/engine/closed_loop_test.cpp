@@ -38,8 +38,10 @@ class AskingSink final : public UpdateSink {
   bool asking = true;
   std::set<uint32_t> seen;    // pixels whose new samples this collection offered
   bool wanted_available = false;
+  std::vector<uint32_t> slot_pixel;  // the layout of the last collection
   void begin(const CollectResult& r) override {
     inner_.begin(r);
+    if (r.slot_pixel) slot_pixel = *r.slot_pixel;
     seen.clear();
     wanted_available = r.wanted != nullptr;
     if (!r.wanted || !asking) return;
@@ -103,6 +105,48 @@ TEST(ClosedLoop, AskedRunsAreRenderedSoonAndTheDisplayIsTold) {
   size_t again2 = 0;
   for (size_t k = b2; k < plain.update_log(0).records.size(); ++k) again2 += plain.update_log(0).records[k].pixel == left;
   EXPECT_EQ(again2, 0u);
+}
+
+// Thread lists need not start on a run boundary. A run that spans two threads' lists is served
+// by both, each rendering its own part of it and nothing beyond.
+TEST(ClosedLoop, ARunAcrossTwoThreadsIsServedByBothAndNoFurther) {
+  EngineConfig c = config(true);
+  c.chunk_size = 13;  // lists of whole 13-pixel chunks: the second one starts inside a run
+  Engine e(kEmptyScene, c, camera_at(0));
+  e.start();
+  UpdateCursor cursor;
+  AskingSink sink;
+  sink.asking = false;
+  e.collect(cursor, sink);
+  for (int k = 0; k < 3; ++k) {  // both walks are mid-list, far from the run asked for below
+    e.advance(0.1);
+    e.collect(cursor, sink);
+  }
+  std::vector<uint32_t> slot_of(size_t(c.width) * size_t(c.height));
+  for (size_t s = 0; s < sink.slot_pixel.size(); ++s) slot_of[sink.slot_pixel[s]] = uint32_t(s);
+  const uint32_t first1 = slot_of[e.update_log(1).records.front().pixel];  // thread 1 walks from its first slot
+  const uint32_t head = first1 % kRunLength;
+  ASSERT_NE(head, 0u) << "the test needs a thread list starting inside a run";
+  sink.ask = {sink.slot_pixel[first1]};
+  sink.asking = true;
+  e.collect(cursor, sink);
+  sink.asking = false;
+  const size_t before0 = e.update_log(0).records.size(), before1 = e.update_log(1).records.size();
+  e.advance(0.1);
+  e.collect(cursor, sink);
+  // The consecutive slots a thread rendered from `start` on, after `before`.
+  const auto served = [&](int t, size_t before, uint32_t start) {
+    const UpdateLog& log = e.update_log(t);
+    for (size_t k = before; k < log.records.size(); ++k) {
+      if (slot_of[log.records[k].pixel] != start) continue;
+      uint32_t n = 0;
+      while (k + n < log.records.size() && slot_of[log.records[k + n].pixel] == start + n) ++n;
+      return n;
+    }
+    return 0u;
+  };
+  EXPECT_EQ(served(0, before0, first1 - head), head);               // thread 0: the run's head
+  EXPECT_EQ(served(1, before1, first1), kRunLength - head);         // thread 1: the rest, no further
 }
 
 TEST(ClosedLoop, EveryPixelWithinTwiceItsListEvenWhenHalfTheImageIsAskedForForever) {
