@@ -88,10 +88,10 @@ struct PixelImage {
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
   SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
-                  const PixelPoint* engine_points = nullptr, const PixelState* engine_states = nullptr) {
+                  const PixelPoint* engine_points = nullptr) {
     return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
             layout ? layout->slot_of.data() : nullptr,
-            px.data(),   points.data(), marks.data(), engine_points, engine_states};
+            px.data(),   points.data(), marks.data(), engine_points};
   }
 };
 
@@ -254,7 +254,7 @@ struct DisplayThread::Impl {
       if (p.epoch != 0) count_epoch(0, p.epoch);
   }
   bool reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
-                 const PixelPoint* engine_points, const PixelState* engine_states);
+                 const PixelPoint* engine_points);
   // Forgets what reprojection knew of the image (its points, marks and camera).
   void reset_reprojection() {
     points.clear();
@@ -282,7 +282,6 @@ struct TickSink final : UpdateSink {
   PixelImage* image = nullptr;
   const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
   const PixelPoint* points = nullptr;            // the engine's, by pixel (reprojection only)
-  const PixelState* states = nullptr;            // the engine's, by slot (reprojection only)
   WantedRuns* wanted = nullptr;                  // closed-loop sampling: where to ask (else null)
   bool asked = false;                            // asked for something since the last publish
   std::vector<SlotRun>* dirty = nullptr;
@@ -317,8 +316,7 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  states = reproject ? r.states : nullptr;
-  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points, r.states)) {
+  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points)) {
     full = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
@@ -371,7 +369,7 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   ScenePoint shown;
   if (mark)
     shown = d.points[pixel];
-  else if (!read_point(states[slot], points[pixel], shown))
+  else if (!read_point(points[pixel], shown))
     return;
   float sx, sy, shown_depth;
   const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
@@ -403,8 +401,7 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
         // The update's own point (read in the same sequence lock); if a newer update has replaced
         // it, that one is collected at the next tick instead.
         ScenePoint point;
-        uint32_t point_seq = 0;
-        if (read_point(states[i], points[pixel], point, &point_seq) && point_seq == u.seq) redirect(u, point);
+        if (read_point_of(states[i], u.seq, points[pixel], point)) redirect(u, point);
         continue;
       }
       mark = &d.marks[pixel];
@@ -525,7 +522,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
 
 // Moves the back buffer to the newest camera, once per camera change; true when it did.
 bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
-                                    const PixelPoint* engine_points, const PixelState* engine_states) {
+                                    const PixelPoint* engine_points) {
   if (!enabled) {
     reset_reprojection();
     return false;
@@ -559,7 +556,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
   // engine's point of its newest update (read by the reprojection).
-  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points, engine_states),
+  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points),
                                             out.slots(points_out, marks_out), world_moves);
   image_moved = true;
   std::swap(img.px, out.px);

@@ -37,9 +37,8 @@ inline uint64_t make_key(float depth, uint32_t source) {
 // The engine's point of unmarked pixel p, all of it from one update: a point its owner keeps
 // rewriting counts as none (the pixel moves nowhere this time; its next update is shown in place).
 inline ScenePoint engine_point(const SlotImage& img, size_t p) {
-  if (!img.engine_states) return load_point(img.engine_points[p]);
   ScenePoint out;
-  if (!read_point(img.engine_states[img.slot(p)], img.engine_points[p], out)) out = ScenePoint{};
+  if (!read_point(img.engine_points[p], out)) out = ScenePoint{};
   return out;
 }
 

@@ -81,8 +81,7 @@ struct ReprojectStats {
 // The display image: pixels by slot (slot s holds pixel pixel_of[s], identity when null), points
 // and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
 // update there, so its point is read from `engine_points` when set (the reprojection copies it
-// into `points`; inside the state's sequence lock when `engine_states` is set, else as it is); a
-// marked pixel shows moved content, whose point is in `points`.
+// into `points`, whole: read_point); a marked pixel shows moved content, whose point is in `points`.
 struct SlotImage {
   int width = 0;
   int height = 0;
@@ -92,7 +91,6 @@ struct SlotImage {
   ScenePoint* points = nullptr;
   uint8_t* marks = nullptr;
   const PixelPoint* engine_points = nullptr;
-  const PixelState* engine_states = nullptr;  // by slot: engine points are read inside their seqlock
   size_t pixels() const { return size_t(width) * size_t(height); }
   uint32_t slot(size_t pixel) const { return slot_of ? slot_of[pixel] : uint32_t(pixel); }
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }

@@ -411,7 +411,6 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.slot_pixel = e.display_order;
   r.levels = e.levels.get();
   r.points = e.points.get();
-  r.states = e.states.get();
   r.wanted = e.wanted.runs && e.priority_rings ? &e.wanted : nullptr;
   r.world_moves = !e.scene.dynamic.empty() || e.instances_epoch.load(std::memory_order_relaxed) > 1 ||
                   e.world_channel.epoch() > 1;

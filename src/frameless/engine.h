@@ -70,9 +70,6 @@ struct CollectResult {
   // Primary hit of each pixel's newest update, by pixel, written like the levels (null before
   // the first layout): what reprojection moves (frameless/pixel_points.h).
   const PixelPoint* points = nullptr;
-  // The pixel states by slot (null before the first layout), valid until collect() returns: the
-  // display reads a point inside its state's sequence lock (read_point in frameless/pixel_points.h).
-  const PixelState* states = nullptr;
   // Closed-loop sampling (EngineConfig::closed_loop, frameless mode; else null): the display asks
   // for runs of slots here, from inside its sink callbacks (frameless/closed_loop.h).
   WantedRuns* wanted = nullptr;

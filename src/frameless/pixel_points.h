@@ -1,7 +1,8 @@
 // What reprojection needs of each pixel's newest update (the render cache): its primary hit in
 // world space and what it hit, kept beside the states by pixel index like the levels. Written by
 // the render thread that owns the pixel inside its publish, read by the display thread with
-// relaxed atomics (race-free under ThreadSanitizer). 16 bytes per pixel.
+// relaxed atomics under the point's own sequence lock (race-free under ThreadSanitizer, and never
+// a mix of two updates). 32 bytes per pixel.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -11,11 +12,15 @@
 
 namespace frameless {
 
-struct alignas(16) PixelPoint {
+struct alignas(32) PixelPoint {
   std::atomic<float> p[3] = {0.0f, 0.0f, 0.0f};  // world position (a direction for kPointSky)
   std::atomic<uint32_t> object{kPointNone};      // SampleResult::object
+  // The point's own sequence lock, odd while its owner writes it: the display reads a point whole
+  // without touching the pixel's state (the splat reads many points, in pixel order).
+  std::atomic<uint32_t> seq{0};
+  uint32_t unused[3] = {0, 0, 0};
 };
-static_assert(sizeof(PixelPoint) == 16, "four pixels' points per cache line");
+static_assert(sizeof(PixelPoint) == 32, "two pixels' points per cache line");
 
 // A plain copy of one pixel's point.
 struct ScenePoint {
@@ -24,14 +29,18 @@ struct ScenePoint {
 };
 static_assert(sizeof(ScenePoint) == 16);
 
-// Render thread, inside the publish (before the closing sequence store).
+// Render thread, inside the publish (before the closing sequence store), under the point's own
+// sequence lock too.
 inline void store_point(PixelPoint& slot, const SampleResult& r) {
+  const uint32_t s = slot.seq.load(std::memory_order_relaxed);
+  slot.seq.store(s + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
   for (int c = 0; c < 3; ++c) slot.p[c].store(r.position[c], std::memory_order_relaxed);
   slot.object.store(r.object, std::memory_order_relaxed);
+  slot.seq.store(s + 2, std::memory_order_release);
 }
 
-// Display thread: the point of the update it just read, or a newer one's. Its components may
-// come from two updates; read_point() rules that out.
+// The components as they are; they may come from two updates (read_point rules that out).
 inline ScenePoint load_point(const PixelPoint& slot) {
   ScenePoint s;
   for (int c = 0; c < 3; ++c) s.p[c] = slot.p[c].load(std::memory_order_relaxed);
@@ -39,23 +48,27 @@ inline ScenePoint load_point(const PixelPoint& slot) {
   return s;
 }
 
-// Display thread: the point of the pixel's newest update, read inside its state's sequence lock
-// as read_pixel() reads the state (the owner stores the point inside its publish), so every
-// component comes from one update (whose sequence number goes to *seq). False while the owner
-// keeps rewriting it.
-inline bool read_point(const PixelState& state, const PixelPoint& slot, ScenePoint& out,
-                       uint32_t* seq = nullptr, int max_tries = 16) {
+// Display thread: the pixel's newest point, whole (all of it from one update), read under its
+// own sequence lock. False while the owner keeps rewriting it.
+inline bool read_point(const PixelPoint& slot, ScenePoint& out, int max_tries = 16) {
   for (int i = 0; i < max_tries; ++i) {
-    const uint32_t s0 = state.seq.load(std::memory_order_acquire);
+    const uint32_t s0 = slot.seq.load(std::memory_order_acquire);
     if (s0 & 1u) continue;
     out = load_point(slot);
     std::atomic_thread_fence(std::memory_order_acquire);
-    if (state.seq.load(std::memory_order_relaxed) == s0) {
-      if (seq) *seq = s0;
-      return true;
-    }
+    if (slot.seq.load(std::memory_order_relaxed) == s0) return true;
   }
   return false;
+}
+
+// Display thread: the point of the update with state sequence number `seq`, read inside the
+// state's sequence lock (the owner stores the point inside its publish). False if that update
+// has been replaced since, or while the owner keeps writing.
+inline bool read_point_of(const PixelState& state, uint32_t seq, const PixelPoint& slot, ScenePoint& out) {
+  if (state.seq.load(std::memory_order_acquire) != seq) return false;
+  if (!read_point(slot, out)) return false;
+  std::atomic_thread_fence(std::memory_order_acquire);
+  return state.seq.load(std::memory_order_relaxed) == seq;
 }
 
 }  // namespace frameless

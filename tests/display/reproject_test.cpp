@@ -277,10 +277,10 @@ TEST(Reproject, UnlimitedReprojectionsBankNoDebt) {
   EXPECT_TRUE(budget.allow(50.081, 0.25f));
 }
 
-// Points are read inside their state's sequence lock: none while the owner writes, and a stable
-// one with its update's sequence number. Against a writer that keeps alternating two points and
-// pauses between their components (as a preempted render thread does), every read is one of them
-// whole (a plain load_point mixes their components).
+// A point is read whole: under its own sequence lock none while its owner writes it, and inside
+// the state's lock only the point of the update asked for. Against writers that keep alternating
+// two points (store_point itself, and one that pauses between the components, as a preempted
+// render thread does), every read is one of them whole; a plain load_point mixes them.
 TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
   PixelState state;
   PixelPoint slot;
@@ -295,40 +295,51 @@ TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
   };
   const uint32_t seq = publish(near_hit);
   ScenePoint p;
-  uint32_t s = 0;
-  ASSERT_TRUE(read_point(state, slot, p, &s));
-  EXPECT_EQ(s, seq);
+  ASSERT_TRUE(read_point_of(state, seq, slot, p));
   EXPECT_EQ(p.object, kPointStatic);
   EXPECT_EQ(p.p, near_hit.position);
-  state.seq.store(seq + 1);  // the owner is writing the next update
-  EXPECT_FALSE(read_point(state, slot, p));
-  state.seq.store(seq);
+  const uint32_t seq2 = publish(sky);
+  EXPECT_FALSE(read_point_of(state, seq, slot, p));  // that update was replaced
+  ASSERT_TRUE(read_point_of(state, seq2, slot, p));
+  EXPECT_EQ(p.object, kPointSky);
+  const uint32_t s = slot.seq.load();
+  slot.seq.store(s + 1);  // the owner is writing the point
+  EXPECT_FALSE(read_point(slot, p));
+  slot.seq.store(s);
 
-  std::atomic<bool> stop{false};
-  std::thread writer([&] {
-    for (uint32_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
-      const SampleResult& r = k % 2 ? sky : near_hit;
-      publish_state(state, 1, 1, mean, 0.0, Vec3(0.5f), 0.0f, [&] {
+  for (const bool pause : {false, true}) {
+    std::atomic<bool> stop{false};
+    std::thread writer([&] {
+      for (uint32_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
+        const SampleResult& r = k % 2 ? sky : near_hit;
+        if (!pause) {
+          publish(r);
+          continue;
+        }
+        const uint32_t v = slot.seq.load(std::memory_order_relaxed);  // store_point, paused
+        slot.seq.store(v + 1, std::memory_order_relaxed);
+        std::atomic_thread_fence(std::memory_order_release);
         for (int c = 0; c < 3; ++c) {
           slot.p[c].store(r.position[c], std::memory_order_relaxed);
           for (int spin = 0; spin < 64; ++spin) (void)stop.load(std::memory_order_relaxed);
         }
         slot.object.store(r.object, std::memory_order_relaxed);
-      });
+        slot.seq.store(v + 2, std::memory_order_release);
+      }
+    });
+    size_t reads = 0, torn = 0;
+    for (int k = 0; k < 200000; ++k) {
+      if (!read_point(slot, p)) continue;
+      ++reads;
+      const bool whole = (p.object == kPointStatic && p.p == near_hit.position) ||
+                         (p.object == kPointSky && p.p == sky.position);
+      torn += !whole;
     }
-  });
-  size_t reads = 0, torn = 0;
-  for (int k = 0; k < 200000; ++k) {
-    if (!read_point(state, slot, p)) continue;
-    ++reads;
-    const bool whole = (p.object == kPointStatic && p.p == near_hit.position) ||
-                       (p.object == kPointSky && p.p == sky.position);
-    torn += !whole;
+    stop = true;
+    writer.join();
+    EXPECT_GT(reads, 0u) << "pause " << pause;
+    EXPECT_EQ(torn, 0u) << "of " << reads << " reads, pause " << pause;
   }
-  stop = true;
-  writer.join();
-  EXPECT_GT(reads, 0u);
-  EXPECT_EQ(torn, 0u) << "of " << reads << " reads";
 }
 
 // The display thread on the default scene, deterministic.
