@@ -152,8 +152,7 @@ int run_engine(const EngineBenchOptions& a) {
   std::vector<std::pair<int, int>> moving_sizes;
   for (const std::string& size : a.moving_sizes) {
     int w = 0, h = 0;
-    if (!parse_size(size, w, h, error))  // its message names --size
-      return report_error("--moving-sizes" + error.substr(error.find(':')));
+    if (!parse_size(size, w, h, error, "--moving-sizes")) return report_error(error);
     moving_sizes.emplace_back(w, h);
   }
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);

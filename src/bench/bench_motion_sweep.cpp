@@ -35,7 +35,7 @@ int run_motion_sweep(const MotionSweepOptions& o) {
   for (const std::string& scene : o.scenes)
     for (const std::string& size : o.sizes) {
       int w = 0, h = 0;
-      if (!parse_size(size, w, h, error)) return report_error("--sweep-sizes: " + error);
+      if (!parse_size(size, w, h, error, "--sweep-sizes")) return report_error(error);
       MotionOptions m = o.base;
       m.sample_fractions.clear();  // equal compute only: the capped runs belong to single runs
       m.scene = scene;

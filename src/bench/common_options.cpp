@@ -61,15 +61,15 @@ bool ShadowOptions::apply(Scene& scene, std::string& error) const {
   return true;
 }
 
-bool parse_size(const std::string& text, int& width, int& height, std::string& error) {
+bool parse_size(const std::string& text, int& width, int& height, std::string& error, const char* flag) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-    error = "--size: expected WxH (e.g. 640x480), got '" + text + "'";
+    error = std::string(flag) + ": expected WxH (e.g. 640x480), got '" + text + "'";
     return false;
   }
   if (w < 1 || h < 1 || w > 16384 || h > 16384) {
-    error = "--size: " + text + " is out of range (each side 1..16384)";
+    error = std::string(flag) + ": " + text + " is out of range (each side 1..16384)";
     return false;
   }
   width = w, height = h;

@@ -32,7 +32,8 @@ struct ShadowOptions {
 };
 
 // Parses "WxH" (1..16384 each); false with a one-line message otherwise.
-bool parse_size(const std::string& text, int& width, int& height, std::string& error);
+bool parse_size(const std::string& text, int& width, int& height, std::string& error,
+                const char* flag = "--size");  // `flag` names the option in the error
 
 // The reprojection budget the benchmarks measure beside the unlimited default: 15 % of a core
 // keeps the display thread within 25 % during bench engine's continuous move.

@@ -32,33 +32,19 @@ static_assert(sizeof(ScenePoint) == 16);
 // Render thread, inside the publish (before the closing sequence store), under the point's own
 // sequence lock too.
 inline void store_point(PixelPoint& slot, const SampleResult& r) {
-  const uint32_t s = slot.seq.load(std::memory_order_relaxed);
-  slot.seq.store(s + 1, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_release);
-  for (int c = 0; c < 3; ++c) slot.p[c].store(r.position[c], std::memory_order_relaxed);
-  slot.object.store(r.object, std::memory_order_relaxed);
-  slot.seq.store(s + 2, std::memory_order_release);
-}
-
-// The components as they are; they may come from two updates (read_point rules that out).
-inline ScenePoint load_point(const PixelPoint& slot) {
-  ScenePoint s;
-  for (int c = 0; c < 3; ++c) s.p[c] = slot.p[c].load(std::memory_order_relaxed);
-  s.object = slot.object.load(std::memory_order_relaxed);
-  return s;
+  write_locked(slot.seq, [&] {
+    for (int c = 0; c < 3; ++c) slot.p[c].store(r.position[c], std::memory_order_relaxed);
+    slot.object.store(r.object, std::memory_order_relaxed);
+  });
 }
 
 // Display thread: the pixel's newest point, whole (all of it from one update), read under its
 // own sequence lock. False while the owner keeps rewriting it.
 inline bool read_point(const PixelPoint& slot, ScenePoint& out, int max_tries = 16) {
-  for (int i = 0; i < max_tries; ++i) {
-    const uint32_t s0 = slot.seq.load(std::memory_order_acquire);
-    if (s0 & 1u) continue;
-    out = load_point(slot);
-    std::atomic_thread_fence(std::memory_order_acquire);
-    if (slot.seq.load(std::memory_order_relaxed) == s0) return true;
-  }
-  return false;
+  return read_locked(slot.seq, [&] {
+    for (int c = 0; c < 3; ++c) out.p[c] = slot.p[c].load(std::memory_order_relaxed);
+    out.object = slot.object.load(std::memory_order_relaxed);
+  }, nullptr, max_tries);
 }
 
 // Display thread: the point of the update with state sequence number `seq`, read inside the

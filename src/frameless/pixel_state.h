@@ -9,6 +9,36 @@
 
 namespace frameless {
 
+// The one sequence-lock protocol of the per-pixel exchange (the state, and the point beside it).
+// Writer (the owner only): `seq` odd while `store()` runs, then 2 more than before.
+template <class Store>
+inline uint32_t write_locked(std::atomic<uint32_t>& seq, Store&& store) {
+  const uint32_t s = seq.load(std::memory_order_relaxed);
+  seq.store(s + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  store();
+  seq.store(s + 2, std::memory_order_release);
+  return s + 2;
+}
+
+// Reader: `load()` between two equal even values of `seq`, whose value goes to *at. False if the
+// writer kept writing through `max_tries` attempts (what `load()` wrote is then unspecified).
+template <class Load>
+inline bool read_locked(const std::atomic<uint32_t>& seq, Load&& load, uint32_t* at = nullptr,
+                        int max_tries = 64) {
+  for (int i = 0; i < max_tries; ++i) {
+    const uint32_t s0 = seq.load(std::memory_order_acquire);
+    if (s0 & 1u) continue;
+    load();
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (seq.load(std::memory_order_relaxed) == s0) {
+      if (at) *at = s0;
+      return true;
+    }
+  }
+  return false;
+}
+
 // Exactly 64 bytes, one cache line (layout in docs/engine.md):
 //   seq 4 | count 4 | epoch 4 | passes 4 | mean 3x8 | m2 8 | sample 3x4 | time 4
 struct alignas(64) PixelState {
@@ -38,20 +68,17 @@ static_assert(sizeof(PixelState) == 64, "per-pixel state must stay one cache lin
 template <class Beside>
 inline uint32_t publish_state(PixelState& p, uint32_t count, uint32_t epoch, const double mean[3],
                           double m2, const Vec3& sample, float time, Beside&& beside) {
-  const uint32_t seq = p.seq.load(std::memory_order_relaxed);
-  p.seq.store(seq + 1, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_release);
-  p.count.store(count, std::memory_order_relaxed);
-  p.epoch.store(epoch, std::memory_order_relaxed);
-  for (int c = 0; c < 3; ++c) {
-    p.mean[c].store(mean[c], std::memory_order_relaxed);
-    p.sample[c].store(sample[c], std::memory_order_relaxed);
-  }
-  p.m2.store(m2, std::memory_order_relaxed);
-  p.time.store(time, std::memory_order_relaxed);
-  beside();
-  p.seq.store(seq + 2, std::memory_order_release);
-  return seq + 2;
+  return write_locked(p.seq, [&] {
+    p.count.store(count, std::memory_order_relaxed);
+    p.epoch.store(epoch, std::memory_order_relaxed);
+    for (int c = 0; c < 3; ++c) {
+      p.mean[c].store(mean[c], std::memory_order_relaxed);
+      p.sample[c].store(sample[c], std::memory_order_relaxed);
+    }
+    p.m2.store(m2, std::memory_order_relaxed);
+    p.time.store(time, std::memory_order_relaxed);
+    beside();
+  });
 }
 
 // Copies every field of `from` into `to`; control thread only, while no render thread runs.
@@ -101,17 +128,7 @@ inline void load_state(const PixelState& p, PixelSnapshot& out) {
 // Display side: reads `p` without tearing. Retries while the owner writes; returns false (and
 // leaves `out` unspecified) if it could not get a stable copy within `max_tries`.
 inline bool read_pixel(const PixelState& p, PixelSnapshot& out, int max_tries = 64) {
-  for (int i = 0; i < max_tries; ++i) {
-    const uint32_t s0 = p.seq.load(std::memory_order_acquire);
-    if (s0 & 1u) continue;
-    load_state(p, out);
-    std::atomic_thread_fence(std::memory_order_acquire);
-    if (p.seq.load(std::memory_order_relaxed) == s0) {
-      out.seq = s0;
-      return true;
-    }
-  }
-  return false;
+  return read_locked(p.seq, [&] { load_state(p, out); }, &out.seq, max_tries);
 }
 
 }  // namespace frameless

@@ -280,7 +280,7 @@ TEST(Reproject, UnlimitedReprojectionsBankNoDebt) {
 // A point is read whole: under its own sequence lock none while its owner writes it, and inside
 // the state's lock only the point of the update asked for. Against writers that keep alternating
 // two points (store_point itself, and one that pauses between the components, as a preempted
-// render thread does), every read is one of them whole; a plain load_point mixes them.
+// render thread does), every read is one of them whole; plain loads of the components mix them.
 TEST(Reproject, PointsAreReadWholeInsideTheirSequenceLock) {
   PixelState state;
   PixelPoint slot;
