@@ -5,7 +5,7 @@
 #include "bench/bench_cluster.h"
 #include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

@@ -3,7 +3,7 @@
 
 #include "bench/bench_error.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

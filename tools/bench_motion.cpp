@@ -5,7 +5,7 @@
 #include "bench/bench_motion.h"
 #include "bench/bench_motion_sweep.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

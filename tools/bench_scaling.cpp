@@ -4,7 +4,7 @@
 
 #include "bench/bench_scaling.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

@@ -6,11 +6,11 @@
 #include <memory>
 #include <sstream>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/capture.h"
 #include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 #include "tools/engine_flags.h"
 
 namespace frameless::cli {

@@ -1,6 +1,6 @@
 #include "tools/engine_flags.h"
 
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 

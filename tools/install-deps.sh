@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages frameless needs, only when some are missing (idempotent, quiet
-# when everything is present). Usage: tools/install-deps.sh [--test] [--bench]
+# when everything is present). Usage: tools/install-deps.sh [--test] [--bench] [--docs]
 set -euo pipefail
 
 build_pkgs=(build-essential cmake pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
@@ -9,13 +9,15 @@ build_pkgs=(build-essential cmake pkg-config git libglm-dev libopenexr-dev nlohm
   libopenmpi-dev openmpi-bin)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev)
 bench_pkgs=(libembree-dev gnuplot)
+docs_pkgs=(graphviz)  # tools/architecture.sh draws docs/architecture.svg with dot
 
 want=("${build_pkgs[@]}")
 for arg in "$@"; do
   case "$arg" in
     --test) want+=("${test_pkgs[@]}") ;;
     --bench) want+=("${bench_pkgs[@]}") ;;
-    *) echo "install-deps.sh: unknown option '$arg' (use --test, --bench)" >&2; exit 2 ;;
+    --docs) want+=("${docs_pkgs[@]}") ;;
+    *) echo "install-deps.sh: unknown option '$arg' (use --test, --bench, --docs)" >&2; exit 2 ;;
   esac
 done
 

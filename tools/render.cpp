@@ -4,14 +4,14 @@
 #include <filesystem>
 #include <memory>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/atomic_file.h"
 #include "display/exr_io.h"
 #include "display/levels_view.h"
 #include "display/png_io.h"
 #include "frameless/tile_render.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

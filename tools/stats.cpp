@@ -13,13 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/atomic_file.h"
 #include "display/png_io.h"
 #include "frameless/stats_closed_loop.h"
 #include "frameless/stats_run.h"
 #include "tools/command_registry.h"
-#include "tools/common_options.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

@@ -10,8 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "frameless/cpu_clock.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless::bench {
 namespace {

@@ -12,7 +12,7 @@
 #include <memory>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 
 namespace frameless::bench {
 namespace {

@@ -19,10 +19,10 @@
 #include <thread>
 #include <vector>
 
-#include "bench/common_options.h"
-#include "core/bvh_build.h"
-#include "core/bvh_build_spheres.h"
-#include "core/scene.h"
+#include "bench/bench_options.h"
+#include "core/accel/bvh_build.h"
+#include "core/accel/bvh_build_spheres.h"
+#include "core/scene/scene.h"
 
 #if defined(FRAMELESS_HAVE_EMBREE)
 #include "bench/bench_rays_embree.h"

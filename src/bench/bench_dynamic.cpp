@@ -11,8 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
-#include "core/rng.h"
+#include "bench/bench_options.h"
+#include "core/base/rng.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless::bench {
 namespace {

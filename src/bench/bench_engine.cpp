@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "bench/latency_trial.h"
 #include "display/camera_path.h"
 #include "display/display_thread.h"

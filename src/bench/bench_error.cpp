@@ -9,8 +9,8 @@
 
 #include "bench/bench_live.h"
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
-#include "core/scene_io.h"
+#include "bench/bench_options.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/reference_cache.h"
 
 namespace frameless::bench {

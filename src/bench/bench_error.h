@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 
 namespace frameless::bench {
 

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "bench/common_options.h"
-#include "core/camera.h"
-#include "core/instance_top.h"
-#include "core/scene.h"
+#include "bench/bench_options.h"
+#include "core/scene/camera.h"
+#include "core/accel/instance_top.h"
+#include "core/scene/scene.h"
 
 namespace frameless::bench {
 namespace {

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "bench/latency_trial.h"
 #include "frameless/engine.h"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 #include "display/display_thread.h"
 #include "frameless/engine_config.h"
 

@@ -11,7 +11,7 @@
 
 #include "bench/bench_live.h"
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "display/camera_path.h"
 #include "frameless/reference_cache.h"
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 
 namespace frameless::bench {
 namespace {

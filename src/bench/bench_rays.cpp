@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
-#include "core/instance.h"
-#include "core/scene.h"
+#include "bench/bench_options.h"
+#include "core/accel/instance.h"
+#include "core/scene/scene.h"
 #include "frameless/cpu_clock.h"
 
 #if defined(FRAMELESS_HAVE_EMBREE)

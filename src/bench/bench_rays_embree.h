@@ -12,7 +12,7 @@
 #include <string>
 #include <time.h>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace frameless::bench {
 

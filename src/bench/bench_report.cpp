@@ -18,7 +18,7 @@
 #include <sstream>
 #include <thread>
 
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "display/atomic_file.h"
 #include "display/manifest.h"
 #include "frameless/reference_cache.h"

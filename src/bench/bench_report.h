@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 #include "frameless/engine_config.h"
 
 namespace frameless::bench {

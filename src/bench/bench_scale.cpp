@@ -13,8 +13,8 @@
 #include <thread>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
-#include "core/builtin_scenes.h"
+#include "bench/bench_options.h"
+#include "core/scenes/builtin_scenes.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/tile_render.h"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "core/builtin_scenes.h"
+#include "core/scenes/builtin_scenes.h"
 
 namespace frameless::bench {
 

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "frameless/engine.h"
 #include "frameless/tile_render.h"
 

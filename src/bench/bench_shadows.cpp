@@ -11,10 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/image_error.h"
 #include "frameless/tile_render.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless::bench {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <thread>
 
-#include "bench/common_options.h"
+#include "bench/bench_options.h"
 
 namespace frameless::bench {
 

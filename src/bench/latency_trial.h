@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 #include "frameless/engine_config.h"
 
 namespace frameless::bench {

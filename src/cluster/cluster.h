@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "cluster/wire.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 #include "frameless/engine.h"
 
 namespace frameless::cluster {

@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "cluster/session_impl.h"
-#include "core/dynamic.h"
+#include "core/scene/dynamic.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/output_commit.h"
 

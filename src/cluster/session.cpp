@@ -6,7 +6,7 @@
 
 #include "cluster/change_collector.h"
 #include "cluster/session_impl.h"
-#include "core/dynamic.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless::cluster {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/types.h"
+#include "core/base/types.h"
 #include "frameless/pixel_state.h"
 #include "frameless/temporal_weight.h"
 

@@ -1,6 +1,6 @@
 // Interactive camera manipulation (orbit, pan, zoom, fly) as pure functions; input thread.
 #pragma once
-#include "core/camera.h"
+#include "core/scene/camera.h"
 
 namespace frameless {
 

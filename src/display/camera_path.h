@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/error.h"
+#include "core/scene/camera.h"
+#include "core/base/error.h"
 
 namespace frameless {
 

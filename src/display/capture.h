@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/scene.h"
+#include "core/base/error.h"
+#include "core/scene/scene.h"
 #include "display/blend.h"
 #include "display/camera_path.h"
 #include "display/display_image.h"

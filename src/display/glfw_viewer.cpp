@@ -22,6 +22,7 @@
 #include "display/manifest.h"
 #include "display/png_io.h"
 #include "frameless/engine.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/scene.h"
+#include "core/base/error.h"
+#include "core/scene/scene.h"
 #include "display/blend.h"
 #include "display/gl_presenter.h"
 #include "frameless/engine_config.h"

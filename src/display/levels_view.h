@@ -3,7 +3,7 @@
 #pragma once
 #include <cstdint>
 
-#include "core/types.h"
+#include "core/base/types.h"
 
 namespace frameless {
 

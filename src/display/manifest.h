@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/camera.h"
-#include "core/error.h"
+#include "core/scene/camera.h"
+#include "core/base/error.h"
 
 namespace frameless {
 

@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace frameless {
 

@@ -10,8 +10,8 @@
 #include <limits>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/intersect_fp.h"
+#include "core/scene/camera.h"
+#include "core/base/fused_float.h"
 #include "display/display_pixel.h"
 #include "frameless/pixel_points.h"
 
@@ -32,7 +32,7 @@ struct Projector {
     if (point.object == kPointNone) return false;
     const bool sky = point.object == kPointSky;
     const Vec3 d = sky ? point.p : point.p - eye;
-    // Explicitly fused (core/intersect_fp.h), so the splat's vector form rounds alike.
+    // Explicitly fused (core/base/fused_float.h), so the splat's vector form rounds alike.
     const float z = dot_exact(d, w);
     if (!(z > 0.0f)) return false;  // behind the eye (or NaN)
     const float inv = 1.0f / z;

@@ -3,7 +3,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "core/camera.h"
+#include "core/scene/camera.h"
 
 namespace frameless {
 

@@ -1,12 +1,14 @@
 // Engine control: layout (partition, pixel state, jobs), thread start/stop, deterministic
-// stepping, the display-side collection of updates, and instrumentation.
+// stepping, the display-side collection of updates, and instrumentation. Updates from other
+// processes come in through frameless/engine_ingest.cpp.
 #include "frameless/engine.h"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 #include "frameless/engine_impl.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 
@@ -215,72 +217,6 @@ void Engine::stop() {
 
 bool Engine::running() const { return impl_->running; }
 
-uint32_t Engine::publish_camera(const Camera& camera) {
-  if (!camera_is_valid(camera)) throw std::invalid_argument("publish_camera: invalid camera");
-  return impl_->channel.publish(camera);
-}
-uint32_t Engine::publish_camera_as(const Camera& camera, uint32_t epoch) {
-  if (!camera_is_valid(camera)) throw std::invalid_argument("publish_camera: invalid camera");
-  return impl_->channel.publish_as(camera, epoch);
-}
-uint32_t Engine::camera_epoch() const { return impl_->channel.epoch(); }
-
-uint32_t Engine::publish_world(const WorldState& world) {
-  Impl& e = *impl_;
-  std::vector<float> flat;
-  pack_world(world, flat);
-  WorldState check = initial_world(e.scene);  // counts, kinds and classes of this scene
-  if (!unpack_world(flat.data(), flat.size(), check))
-    throw std::invalid_argument("publish_world: world state does not match the scene or is not finite");
-  return e.world_channel.publish(flat.data(), flat.size());
-}
-
-uint32_t Engine::world_epoch() const { return impl_->world_channel.epoch(); }
-
-uint32_t Engine::move_instances(const std::vector<InstanceMove>& moves, InstanceUpdate* info) {
-  Impl& e = *impl_;
-  std::lock_guard<std::mutex> publishing(e.instances_publish);
-  const std::shared_ptr<const InstanceTop> from = instance_top();  // the newest: moves build on it
-  if (!from) throw std::invalid_argument("move_instances: the scene has no instances");
-  auto moved = frameless::move_instances(*from, moves, AccelConfig{}, info);
-  if (!moved) throw std::invalid_argument("move_instances: " + moved.error().message);
-  std::lock_guard<std::mutex> lock(e.instances_mutex);
-  e.instances = std::move(*moved);
-  const uint32_t epoch = e.instances_epoch.load(std::memory_order_relaxed) + 1;
-  e.instances_epoch.store(epoch, std::memory_order_release);
-  return epoch;
-}
-
-uint32_t Engine::animate_instances(double t, InstanceUpdate* info) {
-  if (impl_->scene.instance_motions.empty()) return 0;
-  return move_instances(instance_moves_at(impl_->scene, t), info);
-}
-
-uint32_t Engine::instances_epoch() const { return impl_->instances_epoch.load(std::memory_order_acquire); }
-
-std::shared_ptr<const InstanceTop> Engine::instance_top() const {
-  const Impl& e = *impl_;
-  std::lock_guard<std::mutex> lock(e.instances_mutex);
-  return e.instances ? e.instances : e.scene.accel.instance_top();
-}
-
-Affine Engine::instance_transform(uint32_t i) const {
-  const std::shared_ptr<const InstanceTop> top = instance_top();
-  if (!top || i >= top->position.size())
-    throw std::out_of_range("instance_transform: instance " + std::to_string(i) + " out of range");
-  return top->instances[top->position[i]].to_world;
-}
-
-WorldState Engine::world() const {
-  std::vector<float> flat;
-  impl_->world_channel.read(flat);
-  WorldState w = initial_world(impl_->scene);
-  unpack_world(flat.data(), flat.size(), w);
-  return w;
-}
-Camera Engine::camera() const { return impl_->channel.read(); }
-Camera Engine::camera(uint32_t* epoch) const { return impl_->channel.read(epoch); }
-
 void Engine::reconfigure(const EngineConfig& config) {
   const std::string problem = validate(config);
   if (!problem.empty()) throw std::invalid_argument("engine config: " + problem);
@@ -394,10 +330,6 @@ void Engine::advance(double tick_seconds) {
   e.ticks.store(k + 1, std::memory_order_relaxed);
 }
 
-void Engine::set_remote_advance(std::function<void(uint64_t, double)> fn) {
-  impl_->remote_advance = std::move(fn);
-}
-
 uint64_t Engine::ticks() const { return impl_->ticks.load(std::memory_order_relaxed); }
 double Engine::now() const { return impl_->now(); }
 
@@ -473,49 +405,6 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
     r.new_frame = true;
   }
   return r;
-}
-
-void Engine::ingest(const RemoteBatch& b) {
-  Impl& e = *impl_;
-  std::lock_guard<std::mutex> lock(e.layout_mutex);  // the layout (slots, counters) stays put
-  auto bad = [&](const std::string& what) {
-    throw std::invalid_argument("remote thread " + std::to_string(b.thread) + ": " + what);
-  };
-  if (e.cfg.mode != RenderMode::frameless) bad("updates need frameless mode");
-  if (b.thread < 0 || b.thread >= e.threads) bad("no such render thread");
-  if (owns_thread(e.cfg, b.thread)) bad("this process renders that thread itself");
-  const ThreadCounters& c = e.counters[b.thread];
-  if (b.updates < c.updates.load(std::memory_order_relaxed) ||
-      b.samples < c.samples.load(std::memory_order_relaxed) ||
-      b.dropped < c.dropped.load(std::memory_order_relaxed))
-    bad("counters went backwards");
-  const size_t first = e.thread_first_slot[size_t(b.thread)];
-  const size_t end = e.thread_first_slot[size_t(b.thread) + 1];
-  const uint32_t newest = e.channel.epoch();
-  for (const RemoteSlot& r : b.slots) {
-    const PixelSnapshot& s = r.state;
-    if (r.slot < first || r.slot >= end) bad("slot " + std::to_string(r.slot) + " is not its own");
-    if (s.epoch < 1 || s.epoch > newest) bad("camera epoch " + std::to_string(s.epoch) + " out of range");
-    if (s.count < 1) bad("a published pixel without samples");
-    bool finite = std::isfinite(s.variance) && s.variance >= 0.0f && std::isfinite(s.time);
-    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(s.sample[k]) && std::isfinite(s.mean[k]);
-    if (!finite) bad("non-finite value in slot " + std::to_string(r.slot));
-  }
-  for (const RemoteSlot& r : b.slots) {
-    // A state computed elsewhere, published as a render thread publishes its own.
-    const PixelSnapshot& s = r.state;
-    const double mean[3] = {s.mean[0], s.mean[1], s.mean[2]};  // read back as the same floats
-    // read_pixel() gives float(m2 / (count - 1)): this m2 gives the same float back.
-    const double m2 = s.count > 1 ? double(s.variance) * double(s.count - 1) : 0.0;
-    publish_state(e.states[r.slot], s.count, s.epoch, mean, m2, s.sample, s.time, [&] {
-      e.levels[(*e.display_order)[r.slot]].store(s.levels, std::memory_order_relaxed);
-    });
-  }
-  ThreadCounters& w = e.counters[b.thread];
-  w.samples.store(b.samples, std::memory_order_relaxed);
-  w.dropped.store(b.dropped, std::memory_order_relaxed);
-  w.busy_ns.store(b.busy_ns, std::memory_order_relaxed);
-  w.updates.store(b.updates, std::memory_order_release);  // last: collect() reads it first
 }
 
 void Engine::note_display_tick(uint32_t index) {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/instance_top.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/accel/instance_top.h"
+#include "core/scene/scene.h"
 #include "frameless/closed_loop.h"
 #include "frameless/engine_config.h"
 #include "frameless/partition.h"
@@ -20,6 +20,7 @@
 #include "frameless/pixel_state.h"
 #include "frameless/remote_frames.h"
 #include "frameless/update_log.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 
@@ -131,14 +132,14 @@ class Engine {
   uint32_t camera_epoch() const;  // newest epoch; any thread
   Camera camera() const;          // newest camera; any thread
   Camera camera(uint32_t* epoch) const;  // newest camera and its epoch, read together; any thread
-  // What moves while you look (core/dynamic.h): publishes where the dynamic objects sit (their
+  // What moves while you look (core/scene/dynamic.h): publishes where the dynamic objects sit (their
   // own motion adds to that), the lights and the material parameters, without blocking; render
   // threads pick it up at the update percentage, like the camera. Throws std::invalid_argument
   // when the counts differ from the scene's or a value is not finite. Any thread.
   uint32_t publish_world(const WorldState& world);
   uint32_t world_epoch() const;  // 1 until the first publish; any thread
   WorldState world() const;      // newest published world; any thread
-  // Instances moved while you look (OpenRT; core/instance_top.h): applies the moves (declared
+  // Instances moved while you look (OpenRT; core/accel/instance_top.h): applies the moves (declared
   // instance index, new world transform: only what changed) to the newest top level on the
   // caller's thread (copied, then refit or rebuilt; the shared meshes are never touched) and
   // publishes it; render threads pick it up at the update percentage, like the camera. Returns

@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "core/camera.h"
-#include "core/render_sample.h"
+#include "core/scene/camera.h"
+#include "core/shading/render_sample.h"
 #include "frameless/partition.h"
 
 namespace frameless {
@@ -63,7 +63,7 @@ struct EngineConfig {
   // average after that), and a sample more than 3 sigma from the mean restarts it, so moved
   // content is blended in instead of averaged forever (docs/engine.md). 2..65536.
   int motion_history = 8;
-  // Trace the camera rays of consecutive owned pixels as coherent packets (core/accel.h): same
+  // Trace the camera rays of consecutive owned pixels as coherent packets (core/accel/accel.h): same
   // images bit for bit, faster. Off: ray by ray (for comparison; custom shaders always are).
   bool packets = true;
   // Closed-loop sampling (frameless/closed_loop.h): render threads interleave the runs of pixels

@@ -19,6 +19,7 @@
 #include "frameless/pixel_points.h"
 #include "frameless/remote_frames.h"
 #include "frameless/world_channel.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 
@@ -45,7 +46,7 @@ struct FramelessWorker {
   CameraBasis basis;           // camera in use
   UpdateLog* log = nullptr;    // null when logging is off
   AdaptiveWorkerState adaptive;  // adaptive sampling: consecutive skips per list position
-  // What moves (core/dynamic.h): the world in use, picked up like the camera, and this thread's
+  // What moves (core/scene/dynamic.h): the world in use, picked up like the camera, and this thread's
   // frame of it, moved to each sample's instant. `moving` passes the frame to shading at all.
   uint32_t world_epoch = 0;
   WorldState world;

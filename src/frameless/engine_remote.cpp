@@ -5,6 +5,7 @@
 
 #include "frameless/engine.h"
 #include "frameless/engine_impl.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 #include "frameless/hilbert.h"
 
 namespace frameless {

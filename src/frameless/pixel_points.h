@@ -7,7 +7,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "core/render_sample.h"
+#include "core/shading/render_sample.h"
 #include "frameless/pixel_state.h"
 
 namespace frameless {

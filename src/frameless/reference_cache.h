@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/error.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/base/error.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

@@ -7,10 +7,10 @@
 #include <memory>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/dynamic.h"
-#include "core/instance_top.h"
-#include "core/types.h"
+#include "core/scene/camera.h"
+#include "core/scene/dynamic.h"
+#include "core/accel/instance_top.h"
+#include "core/base/types.h"
 
 namespace frameless {
 

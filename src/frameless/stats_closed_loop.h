@@ -4,8 +4,8 @@
 #pragma once
 #include <vector>
 
-#include "core/camera.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 #include "frameless/stats_run.h"
 
 namespace frameless {

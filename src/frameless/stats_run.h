@@ -1,8 +1,8 @@
 // Drives an Engine with an update log to record an UpdateTrace for the statistics of issue 5;
 // runs on the control thread (the engine's render threads do the work).
 #pragma once
-#include "core/camera.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 #include "frameless/engine_config.h"
 #include "frameless/stats_analysis.h"
 

@@ -7,8 +7,9 @@
 #include <chrono>
 #include <thread>
 
-#include "core/instance_top.h"
-#include "core/render_sample.h"
+#include "core/accel/instance_top.h"
+#include "core/shading/render_sample.h"
+#include "core/scene/instance_moves.h"
 
 namespace frameless {
 

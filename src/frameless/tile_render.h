@@ -6,8 +6,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 
@@ -16,7 +16,7 @@ struct TileRenderOptions {
   int threads = 1;
   bool jitter = true;
   uint32_t first_sample = 0;  // sample indices [first_sample, first_sample + spp) per pixel
-  double time = 0.0;          // seconds: where moving objects are (core/dynamic.h)
+  double time = 0.0;          // seconds: where moving objects are (core/scene/dynamic.h)
   // Called from the caller's thread about ten times a second with the fraction done.
   std::function<void(double)> progress;
 };

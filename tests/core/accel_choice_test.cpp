@@ -3,8 +3,9 @@
 // aside for cut-out textures it cannot test.
 #include <gtest/gtest.h>
 
-#include "core/rng.h"
-#include "core/scene_io.h"
+#include "core/base/rng.h"
+#include "core/scenes/scene_load.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

@@ -1,13 +1,13 @@
 // The BVH against brute force on random scenes (closest hit and any hit), permutation and memory.
-#include "core/accel.h"
+#include "core/accel/accel.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <random>
 
-#include "core/intersect_sphere.h"
-#include "core/intersect_triangle.h"
+#include "core/geometry/intersect_sphere.h"
+#include "core/geometry/intersect_triangle.h"
 #include "random_geometry.h"
 
 #include "slow_build.h"

@@ -2,7 +2,7 @@
 // and the problem; nothing crashes, hangs or allocates what a lying header claims.
 #include <gtest/gtest.h>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 namespace {

@@ -3,7 +3,7 @@
 // images do not depend on the thread count), a sound tree (every primitive in one leaf of its
 // kind, boxes that contain what is below them), and closest and any hits that agree with brute
 // force.
-#include "core/bvh_build.h"
+#include "core/accel/bvh_build.h"
 
 #include <gtest/gtest.h>
 
@@ -17,11 +17,11 @@
 #include <thread>
 #include <vector>
 
-#include "core/accel.h"
-#include "core/bvh_build_spheres.h"
-#include "core/intersect_sphere.h"
-#include "core/intersect_triangle.h"
-#include "core/scene_io.h"
+#include "core/accel/accel.h"
+#include "core/accel/bvh_build_spheres.h"
+#include "core/geometry/intersect_sphere.h"
+#include "core/geometry/intersect_triangle.h"
+#include "core/scenes/scene_load.h"
 
 #include "slow_build.h"
 

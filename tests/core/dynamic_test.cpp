@@ -1,14 +1,15 @@
-// Objects that move while you look (core/motion.h, core/dynamic.h): motion as a function of
+// Objects that move while you look (core/scene/motion.h, core/scene/dynamic.h): motion as a function of
 // time, the baked ball physics, the world state's flat form, and rendering at a given instant.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/dynamic.h"
-#include "core/render_sample.h"
-#include "core/scene.h"
-#include "core/scene_io.h"
-#include "core/soft_shadow.h"
+#include "core/scene/dynamic.h"
+#include "core/shading/render_sample.h"
+#include "core/scene/scene.h"
+#include "core/scenes/scene_load.h"
+#include "core/shading/soft_shadow.h"
+#include "core/scene/scene_intersect.h"
 
 namespace frameless {
 namespace {

@@ -1,6 +1,7 @@
 // glTF meshes placed by two or more nodes load as one shared mesh and one instance per node
 // (mesh_gltf.cpp, gltf_instances.cpp, add_mesh): placements, hierarchies, composition with the
-// caller's transform, renders equal to the flattened model's, bad input, Debian's samples.
+// caller's transform, renders equal to the flattened model's, bad input (Debian's samples:
+// gltf_instances_assimp_test.cpp).
 #include <unistd.h>
 
 #include <cmath>
@@ -11,17 +12,28 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
-#include "core/instance.h"
-#include "core/render_sample.h"
-#include "core/scene_build.h"
-#include "core/scene_io.h"
+#include "core/accel/instance.h"
+#include "core/shading/render_sample.h"
+#include "core/scene/scene_build.h"
+#include "core/scenes/scene_load.h"
+#include "core/io/file_util.h"
+#include "core/scene/scene_finalize.h"
+
+#include "gltf_instances_util.h"
+#include "gltf_test_util.h"
 
 namespace frameless {
 namespace {
 
-const std::string kModels = "/usr/share/assimp/models/glTF2";
+using test_util::base64;
+using test_util::differing;
+using test_util::Image;
+using test_util::kMaxDiffering;
+using test_util::kPng64;
+using test_util::kTolerance;
+using test_util::put;
+using test_util::render;
 
 struct TempDir {
   std::string path;
@@ -39,31 +51,6 @@ struct TempDir {
     return path + "/" + name;
   }
 };
-
-std::string base64(const std::string& in) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < in.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(in[i])) << 16;
-    if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
-    if (i + 2 < in.size()) v |= uint32_t(uint8_t(in[i + 2]));
-    out += k[v >> 18 & 63];
-    out += k[v >> 12 & 63];
-    out += i + 1 < in.size() ? k[v >> 6 & 63] : '=';
-    out += i + 2 < in.size() ? k[v & 63] : '=';
-  }
-  return out;
-}
-
-template <class T>
-void put(std::string& b, T v) {
-  b.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-// A 2x1 RGBA PNG: opaque red, transparent blue (with MASK: half of the leaf is cut out).
-const std::string kPng64 =
-    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAYAAAD0In+KAAAADUlEQVR4nGP4z8AARgAO+gL+"
-    "9R5MqQAAAABJRU5ErkJggg==";
 
 constexpr int kGridX = 5, kGridY = 4;  // leaf vertices
 constexpr size_t kLeafVertices = kGridX * kGridY;
@@ -228,33 +215,6 @@ void expect_placements_match_copies(const MeshData& instanced, const MeshData& f
       expect_near(p, flat.positions[4 + k * kLeafVertices + i], 1e-5f);
     }
 }
-
-struct Image {
-  int w = 48, h = 36;
-  std::vector<Vec3> rgb;
-};
-
-Image render(const Scene& scene) {
-  Image img;
-  const CameraBasis cam = make_camera_basis(scene.camera, img.w, img.h);
-  for (int y = 0; y < img.h; ++y)
-    for (int x = 0; x < img.w; ++x)
-      img.rgb.push_back(render_sample(scene, cam, x, y, 0, false).color);
-  return img;
-}
-
-// Pixels whose colours differ by more than `tol` in some channel.
-size_t differing(const Image& a, const Image& b, float tol) {
-  size_t n = 0;
-  for (size_t i = 0; i < a.rgb.size(); ++i)
-    if (glm::any(glm::greaterThan(glm::abs(a.rgb[i] - b.rgb[i]), Vec3(tol)))) ++n;
-  return n;
-}
-
-// Rays carried into an instance's space round differently from rays against transformed
-// vertices: a silhouette or cut-out edge pixel may flip. Colours agree to kTolerance elsewhere.
-constexpr float kTolerance = 2e-3f;
-constexpr size_t kMaxDiffering = 8;  // of 48 x 36 = 1728 pixels
 
 TEST(GltfInstances, MeshPlacedByThreeNodesBecomesOneSharedMesh) {
   auto r = parse(make_model({kThreeNodes}));
@@ -463,110 +423,6 @@ TEST(GltfInstances, BadNodeReferencesGiveOneLineErrors) {
     ASSERT_FALSE(r.ok()) << message;
     EXPECT_EQ(r.error().message, message);
   }
-}
-
-#define REQUIRE_ASSIMP_MODELS()          \
-  if (!std::filesystem::exists(kModels)) \
-  GTEST_SKIP() << "assimp-testmodels is not installed (apt-get install assimp-testmodels)"
-
-uint64_t represented(const MeshData& m) {
-  uint64_t n = m.triangles.size();
-  for (const MeshPlacement& p : m.placements) n += m.shared[p.mesh].triangles.size();
-  return n;
-}
-
-// The glTF JSON with a copy of a mesh for every node after the first that names it: the loader
-// flattens every placement, as it did before instancing (the reference these tests compare to).
-std::string unshared_json(const std::string& text) {
-  nlohmann::json j = nlohmann::json::parse(text);
-  std::vector<uint8_t> used(j["meshes"].size(), 0);
-  for (nlohmann::json& node : j["nodes"]) {
-    if (!node.contains("mesh")) continue;
-    const size_t m = node["mesh"].get<size_t>();
-    if (used[m]++) {
-      node["mesh"] = j["meshes"].size();
-      j["meshes"].push_back(j["meshes"][m]);
-    }
-  }
-  return j.dump();
-}
-
-uint32_t u32(const std::string& b, size_t at) {
-  uint32_t v;
-  std::memcpy(&v, b.data() + at, 4);
-  return v;
-}
-
-// The same for a GLB: its JSON chunk replaced, the binary chunk kept.
-std::string unshared_glb(const std::string& glb) {
-  std::string json = unshared_json(glb.substr(20, u32(glb, 12)));
-  while (json.size() % 4) json += ' ';
-  const std::string bin = glb.substr(20 + u32(glb, 12));
-  std::string out = glb.substr(0, 8);
-  put(out, uint32_t(12 + 8 + json.size() + bin.size()));
-  put(out, uint32_t(json.size()));
-  out += "JSON" + json + bin;
-  return out;
-}
-
-// Instanced and flattened (unshared) loads of a sample: the same triangles represented, and the
-// same image when the instanced model is rendered.
-struct Loaded {
-  ModelData instanced, flattened;
-};
-
-Loaded load_both(const std::string& file, bool glb) {
-  ImageCache images;
-  auto bytes = read_file_bytes(file);
-  EXPECT_TRUE(bytes.ok());
-  const std::string dir = file.substr(0, file.find_last_of('/'));
-  auto a = load_gltf(file, images);
-  auto b = parse_gltf(glb ? unshared_glb(*bytes) : unshared_json(*bytes), file, dir, images);
-  EXPECT_TRUE(a.ok()) << a.error().message;
-  EXPECT_TRUE(b.ok()) << b.error().message;
-  if (!a.ok() || !b.ok()) return {};
-  return {std::move(*a), std::move(*b)};
-}
-
-size_t differing_renders(const MeshData& instanced, const MeshData& flattened) {
-  auto a = make_mesh_scene(instanced, "instanced");
-  auto b = make_mesh_scene(flattened, "flattened");
-  EXPECT_FALSE(a->geometry.instances.empty());
-  EXPECT_TRUE(b->geometry.instances.empty());
-  finalize_scene(*a);
-  finalize_scene(*b);
-  return differing(render(*a), render(*b), kTolerance);
-}
-
-// 2CylinderEngine places 14 of its 29 meshes 52 times: they are stored once, and the model
-// renders as its flattened copy.
-TEST(GltfInstancesAssimp, TwoCylinderEngineSharesItsRepeatedMeshes) {
-  REQUIRE_ASSIMP_MODELS();
-  const Loaded l = load_both(kModels + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", true);
-  const MeshData& m = l.instanced.mesh;
-  EXPECT_EQ(m.shared.size(), 14u);
-  EXPECT_EQ(m.placements.size(), 52u);
-  EXPECT_TRUE(l.flattened.mesh.placements.empty());
-  uint64_t stored = m.triangles.size();
-  for (const MeshData& s : m.shared) stored += s.triangles.size();
-  // Non-degenerate triangles of the placed meshes, counted from the file's accessors: all
-  // represented, as many as flattening stores, of which 59% are stored.
-  EXPECT_EQ(represented(m), 110342u);
-  EXPECT_EQ(l.flattened.mesh.triangles.size(), 110342u);
-  EXPECT_EQ(stored, 65317u);
-  EXPECT_LE(differing_renders(m, l.flattened.mesh), kMaxDiffering);
-}
-
-// KHR_texture_transform textures on shared meshes: the same image as the flattened copies.
-TEST(GltfInstancesAssimp, TextureTransformTestSharesTexturedMeshes) {
-  REQUIRE_ASSIMP_MODELS();
-  const Loaded l = load_both(kModels + "/textureTransform/TextureTransformTest.gltf", false);
-  const MeshData& m = l.instanced.mesh;
-  EXPECT_EQ(m.shared.size(), 2u);
-  EXPECT_EQ(m.placements.size(), 5u);
-  EXPECT_EQ(represented(m), 24u);
-  EXPECT_EQ(l.flattened.mesh.triangles.size(), 24u);
-  EXPECT_LE(differing_renders(m, l.flattened.mesh), kMaxDiffering);
 }
 
 }  // namespace

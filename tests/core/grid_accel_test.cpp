@@ -1,107 +1,31 @@
-// The hybrid grid against brute force and the BVH (closest hit, any hit), its cell BVHs, cones,
-// traversal counters and robustness cases.
-#include "core/grid_accel.h"
+// The hybrid grid against brute force and the BVH (closest hit, any hit), its cell BVHs,
+// traversal counters and robustness cases (its cone query: grid_cone_test.cpp).
+#include "core/accel/grid_accel.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/bezier.h"
-#include "core/intersect_sphere.h"
-#include "core/intersect_triangle.h"
+#include "core/geometry/bezier.h"
+#include "core/geometry/intersect_sphere.h"
+#include "core/geometry/intersect_triangle.h"
 
-#include "slow_build.h"
+#include "grid_test_util.h"
 
 namespace frameless {
 namespace {
 
-#if defined(FRAMELESS_SLOW_BUILD)
-constexpr int kRays = 10000;
-#else
-constexpr int kRays = 100000;
-#endif
-
-using Rng = std::mt19937;
-
-Vec3 uniform_vec(Rng& rng, float lo, float hi) {
-  std::uniform_real_distribution<float> d(lo, hi);
-  return {d(rng), d(rng), d(rng)};
-}
-
-void add_triangle(Geometry& g, Vec3 a, Vec3 b, Vec3 c) {
-  const uint32_t i = uint32_t(g.positions.size());
-  g.positions.insert(g.positions.end(), {a, b, c});
-  g.triangles.push_back({i, i + 1, i + 2});
-  g.triangle_material.push_back(0);
-}
-
-void add_sphere(Geometry& g, Vec3 c, float r) {
-  g.spheres.push_back({c, r});
-  g.sphere_material.push_back(0);
-}
-
-Geometry random_triangles(uint32_t seed, int n, bool degenerate, float max_size = 0.5f) {
-  Rng rng(seed);
-  Geometry g;
-  std::uniform_real_distribution<float> size(0.02f, max_size);
-  for (int i = 0; i < n; ++i) {
-    const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
-    const float s = size(rng);
-    Vec3 a = c + s * uniform_vec(rng, -1, 1), b = c + s * uniform_vec(rng, -1, 1),
-         d = c + s * uniform_vec(rng, -1, 1);
-    if (degenerate && i % 5 == 0) d = a + 0.5f * (b - a);  // collinear: zero area
-    if (degenerate && i % 7 == 0) b = d = a;               // a point
-    add_triangle(g, a, b, d);
-  }
-  return g;
-}
-
-Geometry random_spheres(uint32_t seed, int n, float max_radius = 0.3f) {
-  Rng rng(seed);
-  Geometry g;
-  std::uniform_real_distribution<float> radius(0.01f, max_radius);
-  for (int i = 0; i < n; ++i) add_sphere(g, uniform_vec(rng, -1.0f, 1.0f), radius(rng));
-  return g;
-}
-
-void append(Geometry& g, const Geometry& more) {
-  const uint32_t base = uint32_t(g.positions.size());
-  g.positions.insert(g.positions.end(), more.positions.begin(), more.positions.end());
-  for (UVec3 t : more.triangles) g.triangles.push_back(t + UVec3(base));
-  g.triangle_material.resize(g.triangles.size(), 0);
-  g.spheres.insert(g.spheres.end(), more.spheres.begin(), more.spheres.end());
-  g.sphere_material.resize(g.spheres.size(), 0);
-}
-
-Geometry mixed_scene(uint32_t seed, int n) {
-  Geometry g = random_triangles(seed, n / 2, true);
-  append(g, random_spheres(seed + 1, n / 2));
-  // Primitives sharing one point, and grid-aligned planes through the scene.
-  for (int i = 0; i < 8; ++i) {
-    add_sphere(g, {0.5f, 0.5f, 0.5f}, 0.05f * float(i + 1));
-    add_triangle(g, {0.4f, 0.5f, 0.5f}, {0.6f, 0.5f, 0.5f}, {0.5f, 0.5f + 0.01f * float(i), 0.5f});
-  }
-  add_triangle(g, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1});
-  add_triangle(g, {-1, 0, -1}, {1, 0, 1}, {-1, 0, 1});
-  return g;
-}
-
-// A dense cluster of tiny triangles in a big, sparse scene ("teapot in a stadium").
-Geometry stadium(uint32_t seed, int cluster) {
-  Rng rng(seed);
-  Geometry g;
-  for (int i = 0; i < cluster; ++i) {
-    const Vec3 c = uniform_vec(rng, 0.2f, 0.3f);
-    add_triangle(g, c + uniform_vec(rng, -0.01f, 0.01f), c + uniform_vec(rng, -0.01f, 0.01f),
-                 c + uniform_vec(rng, -0.01f, 0.01f));
-  }
-  add_triangle(g, {-1, -0.5f, -1}, {1, -0.5f, -1}, {1, -0.5f, 1});
-  add_triangle(g, {-1, -0.5f, -1}, {1, -0.5f, 1}, {-1, -0.5f, 1});
-  add_sphere(g, {-0.5f, 0.5f, -0.5f}, 0.4f);
-  add_sphere(g, {0.9f, 0.9f, 0.9f}, 0.05f);
-  return g;
-}
+using test_util::add_sphere;
+using test_util::add_triangle;
+using test_util::append;
+using test_util::kRays;
+using test_util::mixed_scene;
+using test_util::random_spheres;
+using test_util::random_triangles;
+using test_util::Rng;
+using test_util::stadium;
+using test_util::uniform_vec;
 
 bool brute_intersect(const Geometry& g, const Ray& ray, Hit& hit) {
   const TriangleRay tr = make_triangle_ray(ray);
@@ -472,98 +396,6 @@ TEST(GridAccel, StatsAndMemory) {
   ASSERT_GE(s.bytes, csr);
   EXPECT_EQ((s.bytes - csr) % sizeof(GridAccel::Node), 0u);
   EXPECT_LE(s.bytes, size_t(32) * n);  // small spheres: offsets plus ids, ~12-20 bytes each
-}
-
-// Collects visited primitives.
-class Collect : public Accel::ConeVisitor {
- public:
-  explicit Collect(size_t n, int stop_after = -1) : seen(n, 0), stop_after_(stop_after) {}
-  bool leaf(uint32_t first, uint32_t count) override {
-    for (uint32_t p = first; p < first + count; ++p) ++seen[p];
-    calls += int(count);
-    return stop_after_ < 0 || calls < stop_after_;
-  }
-  std::vector<int> seen;
-  int calls = 0;
-
- private:
-  int stop_after_;
-};
-
-bool in_cone(const Vec3& p, const Ray& cone, float tan_half) {
-  const Vec3 q = p - cone.org;
-  const float s = glm::dot(q, cone.dir);
-  if (s < 0.0f || s > cone.tmax) return false;
-  return glm::length(q - s * cone.dir) <= tan_half * s;
-}
-
-// Whether a sample of the primitive's surface lies in the cone (a subset of the truth).
-bool samples_in_cone(const Geometry& g, uint32_t prim, const Ray& cone, float tan_half) {
-  constexpr int k = 12;
-  if (prim < g.num_triangles()) {
-    const UVec3 t = g.triangles[prim];
-    const Vec3 a = g.positions[t.x], b = g.positions[t.y], c = g.positions[t.z];
-    for (int i = 0; i <= k; ++i)
-      for (int j = 0; i + j <= k; ++j)
-        if (in_cone(a + (b - a) * (float(i) / k) + (c - a) * (float(j) / k), cone, tan_half))
-          return true;
-    return false;
-  }
-  const Sphere& s = g.spheres[prim - g.num_triangles()];
-  for (int i = 0; i <= k; ++i)
-    for (int j = 0; j < 2 * k; ++j) {
-      const float th = kPi * float(i) / k, ph = kPi * float(j) / k;
-      const Vec3 d{std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)};
-      if (in_cone(s.center + s.radius * d, cone, tan_half)) return true;
-    }
-  return false;
-}
-
-TEST(GridAccel, VisitConeFindsEveryPrimitiveInTheCone) {
-  Geometry g = stadium(31, 3000);
-  append(g, mixed_scene(32, 400));
-  for (int threshold : {16, 1 << 30}) {
-    GridConfig cfg;
-    cfg.bvh_threshold = threshold;
-    GridAccel grid;
-    grid.build(g, cfg);
-    Rng rng(33);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    size_t inside = 0, visited = 0, calls = 0;
-    const int cones = kRays / 2000 + 10;  // 60 in Release
-    for (int i = 0; i < cones; ++i) {
-      Ray cone;
-      cone.org = uniform_vec(rng, -1.5f, 1.5f);
-      const Vec3 target = i % 2 ? uniform_vec(rng, 0.2f, 0.3f) : uniform_vec(rng, -1.0f, 1.0f);
-      cone.dir = glm::normalize(target - cone.org);
-      if (i % 10 == 0) cone.dir = {0, 0, 1};  // axis-parallel
-      cone.tmax = i % 3 ? glm::length(target - cone.org) : 4.0f;
-      const float tan_half = i % 5 == 0 ? 0.3f * unit(rng) : 0.05f * unit(rng);
-      Collect c(g.num_primitives());
-      ASSERT_TRUE(grid.visit_cone(cone, tan_half, c));
-      for (uint32_t p = 0; p < g.num_primitives(); ++p) {
-        visited += c.seen[p] > 0;
-        if (!samples_in_cone(g, p, cone, tan_half)) continue;
-        ++inside;
-        ASSERT_GT(c.seen[p], 0) << "cone " << i << " missed primitive " << p;
-      }
-      calls += size_t(c.calls);
-    }
-    EXPECT_GT(inside, size_t(cones) * 40);
-    // It prunes (cell BVHs more than lists), and repeats itself less than once a primitive.
-    EXPECT_LT(visited, (threshold == 16 ? 3 : 4) * inside);
-    EXPECT_LT(calls, 2 * visited);
-  }
-  // Stopping early is reported.
-  GridAccel grid;
-  grid.build(g);
-  Ray cone;
-  cone.org = {0.25f, 0.25f, -1.0f};
-  cone.dir = {0, 0, 1};
-  cone.tmax = 3.0f;
-  Collect stop(g.num_primitives(), 3);
-  EXPECT_FALSE(grid.visit_cone(cone, 0.1f, stop));
-  EXPECT_EQ(stop.calls, 3);
 }
 
 }  // namespace

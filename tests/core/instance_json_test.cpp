@@ -2,8 +2,8 @@
 // name the field.
 #include <gtest/gtest.h>
 
-#include "core/instance.h"
-#include "core/scene_io.h"
+#include "core/accel/instance.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 namespace {

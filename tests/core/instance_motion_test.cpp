@@ -1,4 +1,4 @@
-// Moving instances (core/instance_top.h): a moved top level finds exactly what a top built from
+// Moving instances (core/accel/instance_top.h): a moved top level finds exactly what a top built from
 // scratch over the moved transforms finds, the old top never changes, refits that loosen the
 // tree too much rebuild it, and bad moves are refused with a one-line error.
 #include <gtest/gtest.h>
@@ -6,9 +6,9 @@
 #include <cmath>
 #include <random>
 
-#include "core/instance.h"
-#include "core/instance_top.h"
-#include "core/scene_io.h"
+#include "core/accel/instance.h"
+#include "core/accel/instance_top.h"
+#include "core/scenes/scene_load.h"
 #include "random_geometry.h"
 
 namespace frameless {

@@ -5,11 +5,13 @@
 
 #include <cmath>
 
-#include "core/builtin_scenes.h"
-#include "core/instance.h"
-#include "core/instance_top.h"
-#include "core/render_sample.h"
-#include "core/scene_build.h"
+#include "core/scenes/builtin_scenes.h"
+#include "core/accel/instance.h"
+#include "core/accel/instance_top.h"
+#include "core/shading/render_sample.h"
+#include "core/scene/scene_build.h"
+#include "core/scene/scene_finalize.h"
+#include "core/scene/scene_intersect.h"
 
 namespace frameless {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "core/intersect_sphere.h"
-#include "core/intersect_triangle.h"
+#include "core/geometry/intersect_sphere.h"
+#include "core/geometry/intersect_triangle.h"
 
 namespace frameless {
 namespace {

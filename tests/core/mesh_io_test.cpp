@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 namespace {

@@ -10,9 +10,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/mesh_obj.h"
-#include "core/scene_build.h"
-#include "core/scene_io.h"
+#include "core/io/mesh_obj.h"
+#include "core/scene/scene_build.h"
+#include "core/scenes/scene_load.h"
 #include "png_chunks.h"
 
 namespace frameless {

@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "core/accel.h"
+#include "core/accel/accel.h"
 #include "random_geometry.h"
 
 #include "slow_build.h"

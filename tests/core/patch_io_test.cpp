@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/bezier.h"
-#include "core/patch_io.h"
+#include "core/geometry/bezier.h"
+#include "core/io/patch_io.h"
 
 namespace frameless {
 namespace {

@@ -4,9 +4,10 @@
 
 #include <cmath>
 
-#include "core/render_sample.h"
-#include "core/scene_io.h"
-#include "core/soft_shadow.h"
+#include "core/geometry/surface.h"
+#include "core/shading/render_sample.h"
+#include "core/scenes/scene_load.h"
+#include "core/shading/soft_shadow.h"
 
 namespace frameless {
 namespace {

@@ -2,7 +2,7 @@
 #pragma once
 #include <random>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 
 namespace frameless {
 

@@ -1,6 +1,6 @@
 // render_sample / trace_sample: determinism, jitter inside the pixel, depth and normal outputs,
 // and that no NaN or Inf ever leaves a sample.
-#include "core/render_sample.h"
+#include "core/shading/render_sample.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shading_scenes.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

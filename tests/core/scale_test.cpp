@@ -6,8 +6,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/render_sample.h"
+#include "core/shading/render_sample.h"
 #include "shading_scenes.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

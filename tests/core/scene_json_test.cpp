@@ -2,7 +2,7 @@
 // on positions and normals correctly.
 #include <gtest/gtest.h>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 namespace {

@@ -2,7 +2,7 @@
 #pragma once
 #include <memory>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace frameless::testing {
 

@@ -1,12 +1,13 @@
 // Analytic tests of Parker's shading model: Schlick, energy, ambient, each material class by hand,
 // exponential attenuation, total internal reflection, pruning and the depth limit.
-#include "core/shading.h"
+#include "core/shading/shading.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "shading_scenes.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

@@ -1,7 +1,7 @@
 // Binary sphere files (sphere_file.h): the documented layout, write/read round trips with and
 // without scalars, the colour map, appending, and a one-line error (file, record, problem) that
 // leaves the geometry as it was for every kind of malformed file.
-#include "core/sphere_file.h"
+#include "core/io/sphere_file.h"
 
 #include <gtest/gtest.h>
 

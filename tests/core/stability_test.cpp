@@ -6,10 +6,12 @@
 #include <cmath>
 #include <vector>
 
-#include "core/render_sample.h"
-#include "core/scene_analysis.h"
-#include "core/scene_io.h"
+#include "core/shading/render_sample.h"
+#include "core/scene/scene_analysis.h"
+#include "core/scenes/scene_load.h"
 #include "shading_scenes.h"
+#include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_variants.h"
 
 namespace frameless {
 namespace {

@@ -1,14 +1,15 @@
 // Hit-point reconstruction and ray-origin offsets: points on the primitive, normals facing the
 // ray, and no self-intersection at scales 1e-4, 1 and 1e6 (and far from the origin).
-#include "core/surface.h"
+#include "core/geometry/surface.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/scene.h"
+#include "core/base/rng.h"
+#include "core/scene/scene.h"
 #include "shading_scenes.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/texture.h"
+#include "core/scene/texture.h"
 
 namespace frameless {
 namespace {

@@ -6,7 +6,7 @@
 #include <random>
 #include <utility>
 
-#include "core/accel.h"
+#include "core/accel/accel.h"
 
 namespace frameless {
 namespace {

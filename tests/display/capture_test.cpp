@@ -17,7 +17,7 @@
 #include <iterator>
 #include <set>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/contact_sheet.h"
 #include "display/display_thread.h"
 #include "display/gl_presenter.h"

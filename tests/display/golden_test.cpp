@@ -12,10 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "core/render_sample.h"
-#include "core/scene_io.h"
+#include "core/shading/render_sample.h"
+#include "core/scenes/scene_load.h"
 #include "display/exr_io.h"
 #include "display/png_io.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

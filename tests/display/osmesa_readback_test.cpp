@@ -2,7 +2,7 @@
 // the false-colour views and the overlay draw, and the presenter survives resizes.
 #include <gtest/gtest.h>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 #include "display/gl_presenter.h"
 #include "display/osmesa_context.h"
 

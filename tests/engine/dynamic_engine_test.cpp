@@ -2,7 +2,7 @@
 // whose content moved is blended anew instead of averaged forever with what was there before.
 #include <gtest/gtest.h>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/engine.h"
 
 namespace frameless {

@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/engine.h"
 #include "frameless/tile_render.h"
 

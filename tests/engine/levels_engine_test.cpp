@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/engine.h"
 
 namespace frameless {

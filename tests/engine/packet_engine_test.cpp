@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/engine.h"
 
 namespace frameless {

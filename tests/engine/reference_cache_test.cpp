@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "frameless/image_error.h"
 #include "frameless/tile_render.h"
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 
 namespace frameless {
 namespace {

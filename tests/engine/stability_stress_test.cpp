@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <thread>
 
-#include "core/rng.h"
+#include "core/base/rng.h"
 #include "display/blend.h"
 #include "frameless/engine.h"
 #include "frameless/running_stats.h"

@@ -4,9 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 #include "frameless/stats_analysis.h"
 #include "frameless/stats_run.h"
+#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

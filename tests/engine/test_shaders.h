@@ -4,8 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/rng.h"
-#include "core/scene.h"
+#include "core/base/rng.h"
+#include "core/scene/scene.h"
 #include "frameless/engine_config.h"
 
 namespace frameless::testing {

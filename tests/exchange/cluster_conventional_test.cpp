@@ -16,7 +16,7 @@
 
 #include "cluster/piece_queue.h"
 #include "cluster/tile_scheduler.h"
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"
 

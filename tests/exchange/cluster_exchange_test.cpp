@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "cluster/change_collector.h"
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"
 

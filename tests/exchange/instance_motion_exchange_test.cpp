@@ -7,7 +7,7 @@
 #include <cmath>
 #include <thread>
 
-#include "core/scene_io.h"
+#include "core/scenes/scene_load.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"
 

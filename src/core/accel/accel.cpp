@@ -1,0 +1,354 @@
+// The 8-wide BVH: build (bvh_build.cpp) plus ordered closest-hit and early-exit any-hit traversal
+// with one AVX2 box test per node.
+#include "core/accel/accel.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+#include "core/accel/accel_impl.h"
+#include "core/accel/instance_top.h"
+#include "core/accel/bvh_build.h"
+#include "core/accel/bvh_build_spheres.h"
+#include "core/geometry/intersect_sphere.h"
+#include "core/geometry/intersect_triangle.h"
+
+namespace frameless {
+namespace {
+
+struct StackEntry {
+  uint32_t ref;
+  uint32_t info;
+  float t;
+};
+
+}  // namespace
+
+Accel::Accel() : impl_(std::make_unique<Impl>()) {}
+Accel::~Accel() = default;
+Accel::Accel(Accel&&) noexcept = default;
+Accel& Accel::operator=(Accel&&) noexcept = default;
+
+void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  Impl& im = *impl_;
+  im.geom = &geom;
+  std::vector<Bvh8Node>().swap(im.nodes);  // a rebuild must not hold two trees at its peak
+  Bvh8 bvh;
+  if (geom.num_triangles() == 0 && geom.num_patches() == 0) {
+    // Sphere-only geometry: built in place (a sphere is its own bounds), no reference array.
+    bvh = build_bvh8_spheres(geom.spheres, geom.sphere_material, config);
+  } else {
+    // References and the leaf-order permutation in parallel chunks, bit for bit the serial
+    // result (bvh_build.h); primitives are stored in leaf order, so a leaf is a contiguous run.
+    const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres();
+    PrimRefArray refs = make_prim_refs(geom, config);
+    bvh = build_bvh8(refs.data(), refs.size(), nt, config, nt + ns);
+    permute_geometry(geom, refs.data(), refs.size(), config);
+  }
+  if (bvh.depth * (kBvhWidth - 1) + 1 > kStackSize) {
+    std::fprintf(stderr, "frameless: accel: BVH depth %d exceeds the traversal stack\n", bvh.depth);
+    std::abort();
+  }
+  im.nodes = std::move(bvh.nodes);
+  im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
+  if (!im.nodes.empty())
+    for (int a = 0; a < 3; ++a) {
+      float lo = kInfinity, hi = -kInfinity;
+      for (int i = 0; i < kBvhWidth; ++i)
+        if (im.nodes[0].bounds[2 * a][i] <= im.nodes[0].bounds[2 * a + 1][i])
+          lo = std::min(lo, im.nodes[0].bounds[2 * a][i]), hi = std::max(hi, im.nodes[0].bounds[2 * a + 1][i]);
+      if (std::isfinite(hi - lo)) im.scene_size = std::max(im.scene_size, hi - lo);
+    }
+
+  AccelStats& s = im.stats;
+  s = {};
+  s.nodes = im.nodes.size();
+  s.leaves = bvh.leaves;
+  s.depth = bvh.depth;
+  s.bytes = im.nodes.size() * sizeof(Bvh8Node);
+  s.geometry_bytes = geom.positions.size() * sizeof(Vec3) + geom.triangles.size() * sizeof(UVec3) +
+                     geom.triangle_material.size() * sizeof(uint16_t) +
+                     geom.spheres.size() * sizeof(Sphere) +
+                     geom.sphere_material.size() * sizeof(uint16_t) +
+                     geom.patch_material.size() * sizeof(uint16_t);
+  for (const PatchSurface& p : geom.patches) s.geometry_bytes += p.bytes();
+  build_instances(geom, config);
+  s.build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+namespace {
+
+template <bool kAnyHit, bool kCount = false>
+bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
+              Hit& hit, const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
+  if (node_array.empty()) return false;
+  const Bvh8Node* nodes = node_array.data();
+  const Vec3* pos = g.positions.data();
+  const UVec3* tris = g.triangles.data();
+  const Sphere* spheres = g.spheres.data();
+  const uint32_t num_tris = g.num_triangles();
+  const BoxRay br = make_box_ray(ray);
+  // Sphere-only scenes (up to 35 M spheres) skip the shear set-up and its divisions.
+  const TriangleRay tr = num_tris ? make_triangle_ray(ray) : TriangleRay{};
+  const float tmin = ray.tmin;
+  float tmax = ray.tmax;
+  // Box entry distances carry rounding error too: compare them against a widened tmax, or a box
+  // whose primitive ties with the current hit within an ulp would be culled.
+  float tmax_box = tmax * kRobustFar;
+  bool found = false;
+  // A closer hit shrinks the interval every later box and primitive is tested against.
+  auto record = [&](float t, float u, float v, uint32_t prim) {
+    tmax = t;
+    tmax_box = t * kRobustFar;
+    hit.t = t;
+    hit.u = u;
+    hit.v = v;
+    hit.prim = prim;
+    hit.inst = kInvalidId;
+    found = true;
+  };
+
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  uint32_t ref = 0, info = 0;  // start at the root node
+  for (;;) {
+    if (info == 0) {
+      const Bvh8Node& node = nodes[ref];
+      if constexpr (kCount) ++counts->nodes;
+      alignas(32) float dist[kBvhWidth];
+      uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
+      if (mask != 0) {
+        uint32_t i = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        if (mask == 0) {  // one child entered: descend without touching the stack
+          ref = node.child[i];
+          info = node.info[i];
+          continue;
+        }
+        if constexpr (kAnyHit) {
+          // Order is irrelevant for any-hit: push the rest, descend into the first.
+          do {
+            const uint32_t j = uint32_t(__builtin_ctz(mask));
+            stack[sp++] = {node.child[j], node.info[j], dist[j]};
+            mask &= mask - 1;
+          } while (mask);
+          ref = node.child[i];
+          info = node.info[i];
+          continue;
+        } else {
+          // Two or more: sort near to far, push far ones, descend into the nearest.
+          StackEntry e[kBvhWidth];
+          int n = 0;
+          e[n++] = {node.child[i], node.info[i], dist[i]};
+          do {
+            const uint32_t j = uint32_t(__builtin_ctz(mask));
+            StackEntry x{node.child[j], node.info[j], dist[j]};
+            int k = n++;
+            while (k > 0 && e[k - 1].t > x.t) e[k] = e[k - 1], --k;
+            e[k] = x;
+            mask &= mask - 1;
+          } while (mask);
+          for (int k = n - 1; k > 0; --k) stack[sp++] = e[k];
+          ref = e[0].ref;
+          info = e[0].info;
+          continue;
+        }
+      }
+    } else if (info & kPatchLeafBit) {
+      // Spline patches: each walks its own bottom-up BVH to Broyden's method (core/geometry/bezier.h).
+      const uint32_t count = info & kLeafCountMask, first = g.first_patch();
+      if constexpr (kCount) counts->prims += count;
+      for (uint32_t k = 0; k < count; ++k) {
+        const PatchSurface& ps = g.patches[ref + k];
+        if constexpr (kAnyHit) {
+          if (!alpha.opaque) {
+            if (ps.occluded(ray, tmin, tmax)) return true;
+            continue;
+          }
+        }
+        float t, u, v;
+        if (ps.intersect(ray, tmin, tmax, t, u, v)) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, first + ref + k, ray, t, u, v)) continue;
+          if constexpr (kAnyHit) return true;
+          record(t, u, v, first + ref + k);
+        }
+      }
+    } else if (info & kSphereLeafBit) {
+      const uint32_t count = info & kLeafCountMask;
+      if constexpr (kCount) counts->prims += count;
+      for (uint32_t k = 0; k < count; ++k) {
+        float t;
+        const uint32_t prim = num_tris + ref + k;
+        if (intersect_sphere(ray.org, ray.dir, spheres[ref + k], tmin, tmax_box, t) &&
+            (kAnyHit ? t <= tmax : closer_hit(t, prim, found, hit, ray.tmax))) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, prim, ray, t, 0.0f, 0.0f)) continue;
+          if constexpr (kAnyHit) return true;
+          record(t, 0.0f, 0.0f, prim);
+        }
+      }
+    } else {
+      if constexpr (kCount) counts->prims += info;
+      for (uint32_t k = 0; k < info; ++k) {
+        const UVec3 tri = tris[ref + k];
+        float t, u, v;
+        if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax_box, t, u, v) &&
+            (kAnyHit ? t <= tmax : closer_hit(t, ref + k, found, hit, ray.tmax))) {
+          if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
+          if constexpr (kAnyHit) return true;
+          record(t, u, v, ref + k);
+        }
+      }
+    }
+    // Pop the nearest pending entry that may still hold a closer hit.
+    for (;;) {
+      if (sp == 0) return found;
+      const StackEntry& e = stack[--sp];
+      if (e.t <= tmax_box) {
+        ref = e.ref;
+        info = e.info;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
+  hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
+  bool found;
+  if (impl_->grid)
+    found = impl_->grid->intersect(ray, hit);
+  else
+    found = impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
+  // Instances after the flat geometry, within its closest hit (both orders give one answer).
+  if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
+  return found;
+}
+
+bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
+  if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
+  Hit unused;
+  if (impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha))
+    return true;
+  return occluded_instances(ray, top);
+}
+
+bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
+  if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
+  return impl_->geom &&
+         traverse<false, true>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha, &counts);
+}
+
+bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
+  if (impl_->grid) return impl_->grid->occluded(ray, &counts);
+  Hit unused;
+  return impl_->geom &&
+         traverse<true, true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha, &counts);
+}
+
+void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }
+
+namespace {
+
+// Mask of the eight children whose boxes, grown by the cone's radius at the box's far end along
+// the axis, the axis ray enters within [0, tmax]. A point of the box inside the cone lies within
+// that radius of the axis at its own depth, so it lies in the grown box on the axis: conservative.
+inline uint32_t cone_children(const Bvh8Node& n, const Ray& ray, const BoxRay& r, float tan_half,
+                              float tmax) {
+#if defined(__AVX2__)
+  const __m256 zero = _mm256_setzero_ps();
+  __m256 far_t = zero;  // largest depth along the axis of any box corner
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(ray.org[a]), d = _mm256_set1_ps(ray.dir[a]);
+    const __m256 lo = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[2 * a]), o), d);
+    const __m256 hi = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.bounds[2 * a + 1]), o), d);
+    far_t = _mm256_add_ps(far_t, _mm256_max_ps(lo, hi));
+  }
+  // Boxes wholly behind the apex are out; so are empty slots (lo > hi), whose far_t can be +inf.
+  const __m256 in_front =
+      _mm256_and_ps(_mm256_cmp_ps(far_t, zero, _CMP_GE_OQ),
+                    _mm256_cmp_ps(_mm256_load_ps(n.bounds[0]), _mm256_load_ps(n.bounds[1]), _CMP_LE_OQ));
+  // The rounding of far_t and of the slab test is covered by a relative margin.
+  const __m256 grow = _mm256_add_ps(
+      _mm256_mul_ps(_mm256_set1_ps(tan_half * 1.0001f),
+                    _mm256_min_ps(far_t, _mm256_set1_ps(tmax))),
+      _mm256_set1_ps(1e-30f));
+  __m256 tn = zero, tf = _mm256_set1_ps(tmax);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(r.org[a]);
+    // Entry plane moves against the direction of travel, exit plane with it.
+    const bool neg = r.near[a] & 1;
+    const __m256 g = neg ? _mm256_sub_ps(zero, grow) : grow;
+    const __m256 near_plane = _mm256_sub_ps(_mm256_load_ps(n.bounds[r.near[a]]), g);
+    const __m256 far_plane = _mm256_add_ps(_mm256_load_ps(n.bounds[r.near[a] ^ 1]), g);
+    tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, o), _mm256_set1_ps(r.inv[a])), tn);
+    tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, o), _mm256_set1_ps(r.inv_far[a])), tf);
+  }
+  const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ), in_front);
+  return uint32_t(_mm256_movemask_ps(hit));
+#else
+  uint32_t mask = 0;
+  for (int i = 0; i < kBvhWidth; ++i) {
+    if (n.bounds[0][i] > n.bounds[1][i]) continue;  // empty slot
+    float far_t = 0.0f;  // largest depth along the axis of any box corner
+    for (int a = 0; a < 3; ++a)
+      far_t += std::max((n.bounds[2 * a][i] - ray.org[a]) * ray.dir[a],
+                        (n.bounds[2 * a + 1][i] - ray.org[a]) * ray.dir[a]);
+    if (!(far_t >= 0.0f)) continue;  // wholly behind the apex
+    const float grow = tan_half * std::min(far_t, tmax) * 1.0001f + 1e-30f;
+    float tn = 0.0f, tf = tmax;
+    for (int a = 0; a < 3; ++a) {
+      const float lo = n.bounds[2 * a][i] - grow, hi = n.bounds[2 * a + 1][i] + grow;
+      const float near_plane = r.near[a] & 1 ? hi : lo, far_plane = r.near[a] & 1 ? lo : hi;
+      tn = std::max(tn, (near_plane - r.org[a]) * r.inv[a]);  // NaN keeps tn
+      tf = std::min(tf, (far_plane - r.org[a]) * r.inv_far[a]);
+    }
+    mask |= uint32_t(tn <= tf) << i;
+  }
+  return mask;
+#endif
+}
+
+}  // namespace
+
+bool Accel::visit_cone(const Ray& ray, float tan_half, ConeVisitor& visitor) const {
+  const Impl& im = *impl_;
+  if (im.grid) return im.grid->visit_cone(ray, tan_half, visitor);
+  if (!im.geom || im.nodes.empty()) return true;
+  const BoxRay br = make_box_ray(ray);
+  const float tmax = ray.tmax * kRobustFar;
+  const uint32_t nt = im.geom->num_triangles();
+  StackEntry stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = {0, 0, 0.0f};
+  while (sp > 0) {
+    const StackEntry e = stack[--sp];
+    if (e.info == 0) {
+      const Bvh8Node& node = im.nodes[e.ref];
+      uint32_t mask = cone_children(node, ray, br, tan_half, tmax);
+      while (mask) {
+        const uint32_t j = uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1;
+        stack[sp++] = {node.child[j], node.info[j], 0.0f};
+      }
+    } else if (e.info & kPatchLeafBit) {
+      if (!visitor.leaf(im.geom->first_patch() + e.ref, e.info & kLeafCountMask)) return false;
+    } else if (e.info & kSphereLeafBit) {
+      if (!visitor.leaf(nt + e.ref, e.info & kLeafCountMask)) return false;
+    } else {
+      if (!visitor.leaf(e.ref, e.info)) return false;
+    }
+  }
+  return true;
+}
+
+const AccelStats& Accel::stats() const { return impl_->stats; }
+
+}  // namespace frameless

@@ -1,0 +1,24 @@
+// Textures and materials of JSON scene files; loading thread only (throws Failure).
+#pragma once
+#include <map>
+#include <set>
+#include <string>
+
+#include "core/scene/scene.h"
+#include "core/io/scene_json_util.h"
+#include "core/io/image_io.h"
+
+namespace frameless::scene_json {
+
+using TextureNames = std::map<std::string, uint32_t>;
+
+// The "textures" object: image files (shared through `images`) and procedural solid textures;
+// the ids of solid textures with "space": "object" go to object_space.
+void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageCache& images,
+                    TextureNames& names, std::set<uint32_t>& object_space);
+
+// One entry of "materials", with its texture slots resolved by name.
+Material parse_material(const std::string& name, const json& j, const std::string& f,
+                        const TextureNames& textures, const Scene& scene);
+
+}  // namespace frameless::scene_json

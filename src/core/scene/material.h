@@ -1,0 +1,56 @@
+// Parker et al. 1999 material classes (section 3.1); read-only data, any thread.
+#pragma once
+#include <string>
+
+#include "core/scene/texture.h"
+#include "core/base/types.h"
+
+namespace frameless {
+
+enum class MaterialClass : uint8_t { kDiffuse, kMetal, kDielectric, kPolished };
+
+// One record for all classes; each class reads only the fields it needs:
+//  diffuse:    kd                              (k_h = k_s = k_t = 0)
+//  metal:      ks (k_h = k_s), phong_exponent  (k_d = k_t = 0)
+//  dielectric: ior (R0 for Schlick), extinction kappa, kh + phong_exponent (highlight)
+//  polished:   kd, r0 (Schlick R0 of the coat), kh + phong_exponent   (equation 2)
+// Texture slots (indices into Scene::textures, kNoTexture when constant) replace the constant
+// colours kd, kh and a metal's ks; alpha cuts the surface out where it falls below alpha_cutoff;
+// normal_tex (tangent space, glTF) or bump_tex (height, OBJ bump) perturb the shading normal.
+struct MaterialParams {
+  MaterialClass cls = MaterialClass::kDiffuse;
+  Vec3 kd{0.8f};
+  Vec3 ks{0.0f};
+  Vec3 kh{0.0f};
+  float phong_exponent = 32.0f;
+  float ior = 1.5f;
+  Vec3 extinction{0.0f};  // kappa per unit length inside a dielectric, per channel
+  Vec3 r0{0.04f};         // polished: Schlick normal-incidence reflectance of the coat
+
+  uint32_t kd_tex = kNoTexture;      // multiplies kd
+  uint32_t kh_tex = kNoTexture;      // multiplies kh
+  uint32_t ks_tex = kNoTexture;      // multiplies a metal's ks
+  uint32_t alpha_tex = kNoTexture;   // cut-out: channel alpha_channel times opacity
+  uint32_t normal_tex = kNoTexture;  // tangent-space normal map
+  uint32_t bump_tex = kNoTexture;    // height map (channel 0), scaled by bump_scale
+  uint8_t alpha_channel = 3;         // 3: the texture's alpha; 0: its first channel (map_d)
+  float opacity = 1.0f;              // constant alpha (glTF baseColorFactor.a, MTL d)
+  float alpha_cutoff = 0.5f;         // alpha below this: the surface is absent for every ray
+  float bump_scale = 1.0f;
+
+  bool textured() const {
+    return kd_tex != kNoTexture || kh_tex != kNoTexture || ks_tex != kNoTexture ||
+           normal_tex != kNoTexture || bump_tex != kNoTexture;
+  }
+  bool cutout() const { return alpha_tex != kNoTexture || opacity < alpha_cutoff; }
+};
+
+// The parameters plus a name (scene files refer to materials by name). Shading works on the
+// plain parameters, so a textured hit copies them without touching the string.
+struct Material : MaterialParams {
+  std::string name;
+};
+
+const char* material_class_name(MaterialClass c);
+
+}  // namespace frameless

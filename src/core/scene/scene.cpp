@@ -1,0 +1,25 @@
+// Names of the scene's enumerations (reports, JSON, the command line).
+#include "core/scene/scene.h"
+
+namespace frameless {
+
+const char* material_class_name(MaterialClass c) {
+  switch (c) {
+    case MaterialClass::kDiffuse: return "diffuse";
+    case MaterialClass::kMetal: return "metal";
+    case MaterialClass::kDielectric: return "dielectric";
+    case MaterialClass::kPolished: return "polished";
+  }
+  return "unknown";
+}
+
+const char* shadow_mode_name(ShadowMode m) {
+  switch (m) {
+    case ShadowMode::kHard: return "hard";
+    case ShadowMode::kSoft: return "soft";
+    case ShadowMode::kArea: return "area";
+  }
+  return "unknown";
+}
+
+}  // namespace frameless

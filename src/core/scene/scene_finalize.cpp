@@ -1,0 +1,71 @@
+// The step between loading and rendering: features analysed, what soft shadows need built, the
+// acceleration structure of the settings' kind built, the cut-out test installed.
+#include "core/scene/scene_finalize.h"
+
+#include "core/geometry/occluders.h"
+#include "core/scene/scene_analysis.h"
+#include "core/scene/texturing.h"
+
+namespace frameless {
+namespace {
+
+// Builds the structure the settings ask for. The grid has no cut-out test, so scenes with alpha
+// cut-outs keep the BVH. Auto gets the scene's own trial: camera rays and shadow rays.
+void build_accel(Scene& scene, const AccelConfig& base) {
+  AccelConfig config = base;
+  config.kind = scene.features.has_cutouts ? AccelKind::kBvh : scene.settings.accel;
+  if (config.kind == AccelKind::kAuto) {
+    constexpr int kW = 64, kH = 48;
+    const CameraBasis b = make_camera_basis(scene.camera, kW, kH);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) config.trial_rays.push_back(camera_ray(b, x + 0.5f, y + 0.5f));
+    for (const Light& l : scene.lights)
+      if (l.kind == LightKind::kPoint) config.trial_lights.push_back(l.position);
+  }
+  scene.accel.build(scene.geometry, config);
+}
+
+}  // namespace
+
+void finalize_scene(Scene& scene, const AccelConfig& config) {
+  scene.features = analyse_scene(scene);
+  // Edge adjacency only where soft shadows will read it (skip what a scene doesn't need); it is
+  // built before the accel so the build permutes it with the triangles.
+  if (scene.features.has_soft_lights && scene.geometry.num_triangles() > 0) {
+    if (scene.geometry.triangle_opposite.size() != scene.geometry.triangles.size())
+      build_triangle_adjacency(scene.geometry);
+  } else {
+    scene.geometry.triangle_opposite = {};
+  }
+  build_accel(scene, config);
+  // Patch shadow grids follow the patches' order, which the build may permute.
+  if (scene.features.has_soft_lights && scene.geometry.num_patches() > 0)
+    build_patch_shadow_grid(scene.geometry);
+  else
+    scene.geometry.patch_shadow_grid = {};
+  install_alpha_test(scene);
+}
+
+void set_accel(Scene& scene, AccelKind kind, const AccelConfig& config) {
+  if (scene.settings.accel == kind && scene.accel.stats().structure == kind) return;
+  scene.settings.accel = kind;
+  build_accel(scene, config);
+  if (!scene.geometry.patch_shadow_grid.empty()) build_patch_shadow_grid(scene.geometry);
+  install_alpha_test(scene);
+}
+
+void set_shadow_settings(Scene& scene, ShadowMode mode, int samples, bool transparent) {
+  scene.settings.shadows = mode;
+  scene.settings.shadow_samples = samples;
+  scene.settings.transparent_shadows = transparent;
+  scene.features = analyse_scene(scene);
+  // Adjacency is per triangle in the BVH's current order, so it can be built after the build.
+  if (scene.features.has_soft_lights &&
+      scene.geometry.triangle_opposite.size() != scene.geometry.triangles.size())
+    build_triangle_adjacency(scene.geometry);
+  if (scene.features.has_soft_lights && scene.geometry.patch_shadow_grid.empty() &&
+      scene.geometry.num_patches() > 0)
+    build_patch_shadow_grid(scene.geometry);
+}
+
+}  // namespace frameless

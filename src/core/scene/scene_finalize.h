@@ -1,0 +1,20 @@
+// Finalizing a loaded scene (loading thread): analyse its features, build what soft shadows need
+// and its acceleration structure; and the command line's later changes to those settings.
+#pragma once
+#include "core/accel/accel_types.h"
+#include "core/scene/scene.h"
+
+namespace frameless {
+
+// Builds the acceleration structure (of kind scene.settings.accel) and analyses features. Call
+// once after loading. config supplies the build parameters; its kind is ignored.
+void finalize_scene(Scene& scene, const AccelConfig& config = {});
+
+// Rebuilds a finalized scene's acceleration structure as `kind` (command-line --accel).
+void set_accel(Scene& scene, AccelKind kind, const AccelConfig& config = {});
+
+// Changes the shadow settings of a finalized scene (command-line overrides): re-analyses its
+// features and builds the edge adjacency soft shadows need, without rebuilding the BVH.
+void set_shadow_settings(Scene& scene, ShadowMode mode, int samples, bool transparent);
+
+}  // namespace frameless

@@ -1,0 +1,18 @@
+// Per-ray queries over a scene and the moving objects of a frame (render threads, any thread).
+#pragma once
+#include "core/geometry/surface.h"
+#include "core/scene/dynamic.h"
+
+namespace frameless {
+
+// Closest hit over the static structure and the dynamic objects (frame may be null).
+bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit);
+// Adds the frame's moving objects to `hit`, the static scene's closest hit of `ray` (invalid on a
+// miss); returns whether anything was hit.
+bool merge_dynamic_hit(const DynamicFrame* frame, const Ray& ray, Hit& hit);
+// Any hit over both (shadow rays).
+bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ray);
+// Surface point of a hit from scene_intersect (static or dynamic).
+SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
+                                 const Hit& hit);
+}  // namespace frameless

@@ -1,0 +1,26 @@
+// Textures applied at hits: texture coordinates of a hit, textured material parameters and
+// perturbed shading normals, and the alpha cut-out test the traversal calls. Pure, any thread.
+#pragma once
+#include "core/scene/scene.h"
+#include "core/geometry/surface.h"
+
+namespace frameless {
+
+// Texture coordinates at a hit: interpolated vertex UVs (or the barycentrics when the mesh has
+// none), the spherical map (u around the y axis, v from the south pole) for spheres.
+Vec2 hit_uv(const Geometry& geom, const Ray& ray, const Hit& hit);
+
+// Multiplies the textured colours into m and perturbs sp.ns by the normal or bump map.
+void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
+                    SurfacePoint& sp);
+// The same on geometry g (a shared mesh's, with an object-space ray and hit).
+void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const Hit& hit,
+                    MaterialParams& m, SurfacePoint& sp);
+
+// Whether a hit (t, barycentrics u, v) on primitive prim is on an opaque part of its surface.
+bool cutout_opaque(const Scene& scene, uint32_t prim, const Ray& ray, float t, float u, float v);
+
+// Installs the cut-out test in the scene's accel when some material has one (finalize_scene).
+void install_alpha_test(Scene& scene);
+
+}  // namespace frameless

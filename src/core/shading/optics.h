@@ -1,0 +1,25 @@
+// Optics at interfaces (Parker et al. 1999, section 3.1): Schlick's approximation, reflectance at
+// normal incidence, the dielectric's Fresnel weights. Pure functions, any thread.
+#pragma once
+#include "core/base/types.h"
+
+namespace frameless {
+
+// Schlick's approximation k_s = R0 + (1 - R0)(1 - cos)^5, cos clamped to [0, 1].
+float schlick(float cos_theta, float r0);
+Vec3 schlick(float cos_theta, const Vec3& r0);
+
+// Normal-incidence reflectance ((n - 1) / (n + 1))^2 of an interface to a medium of index ior.
+float r0_from_ior(float ior);
+
+// Reflection and transmission weights at a dielectric interface. cos_i = e . n >= 0 on the
+// incident side; eta = n_incident / n_transmitted. Total internal reflection gives ks = 1, kt = 0.
+struct FresnelTerms {
+  float ks = 1.0f;
+  float kt = 0.0f;
+  float cos_t = 0.0f;  // cosine of the transmitted direction with -n (0 under TIR)
+  bool total_internal_reflection = true;
+};
+FresnelTerms dielectric_fresnel(float cos_i, float eta, float r0);
+
+}  // namespace frameless

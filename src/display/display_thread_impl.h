@@ -1,0 +1,174 @@
+// The display thread's state (DisplayThread::Impl) and the sink that blends one tick's updates
+// into its back buffer, shared by display_thread.cpp (the thread and its tick) and
+// tick_sink.cpp (the blend of each update). Display thread only, except where marked.
+#pragma once
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <cmath>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+#include "display/display_thread.h"
+#include "display/display_pixel.h"
+#include "display/slot_image.h"
+#include "display/reproject.h"
+#include "frameless/cpu_clock.h"
+
+namespace frameless {
+namespace display_detail {
+
+inline constexpr uint32_t kNew = 4;
+inline constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
+inline constexpr size_t kIntervalsKept = 1024;
+
+}  // namespace display_detail
+
+using namespace display_detail;
+
+struct DisplayThread::Impl {
+  Impl(Engine& e, const DisplayConfig& c) : engine(e), config(c) {}
+
+  Engine& engine;
+  mutable std::mutex config_mutex;
+  DisplayConfig config;
+  std::function<void(const DisplayImage&)> on_tick;  // gets the public image (built for it)
+  std::function<void(const FrameInfo&)> on_tick_info;  // gets the tick's FrameInfo only
+
+  // Display-thread state.
+  UpdateCursor cursor;
+  DisplayImage tick_image;         // public layers of the newest image for the on-tick callback
+  uint64_t tick_image_synced = 0;  // ticks whose changes tick_image holds (0: none)
+  uint64_t tick_index = 0;
+  uint64_t last_samples = 0;
+  uint64_t rejected = 0;
+  uint64_t pixels_updated = 0;  // since construction
+  LayoutPtr layout;             // the engine's current slot order, with its inverse
+  // By slot: the engine's sequence number of the update each slot shows, so that update is not
+  // blended twice. One array for the three buffers (each is brought up to the newest image before
+  // a tick blends into it); apart from the pixels, so reprojection leaves it where it is.
+  std::vector<uint32_t> shown_seq;
+  std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
+  ChangeHistory history;  // what the last ticks changed
+  // Reprojection: the camera the image was last moved to (epoch 0: none yet) and scratch.
+  // image_moved: the image was moved since reprojection (re)started; until then it shows its
+  // updates where they were rendered, so older cameras' updates are not redirected.
+  uint32_t reproject_epoch = 0;
+  bool image_moved = false;
+  CameraBasis reproject_basis;
+  Reprojector reprojector;
+  PixelImage reprojected;
+  // Reprojection's marks by pixel and, for marked pixels (content moved there), their points; an
+  // unmarked pixel's point is the engine's. The display thread's alone, so outside the triple
+  // buffer; with the reprojection's output for them.
+  std::vector<ScenePoint> points, points_out;
+  std::vector<uint8_t> marks, marks_out;
+  ReprojectTotals reproject_totals;
+  ReprojectBudget reproject_budget;
+
+  // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
+  // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
+  // synced[b]: ticks whose changes buffer b holds; newest: the buffer published last (3: none),
+  // which only ever gets read while it is not `back`.
+  PixelImage buf[3];
+  uint32_t newest = 3;
+  uint64_t synced[3] = {0, 0, 0};
+  std::atomic<uint32_t> middle{1};
+  uint32_t back = 0;
+  uint32_t front = 2;
+  DisplayImage latest;        // consumer: public layers of buf[front]
+  uint64_t latest_synced = 0;  // consumer: ticks whose changes `latest` holds (0: none)
+
+  // Wall-clock thread.
+  std::thread thread;
+  bool running = false;
+  std::mutex wake_mutex;
+  std::condition_variable wake;
+  bool stop_requested = false;
+  std::chrono::steady_clock::time_point t_start = std::chrono::steady_clock::now();
+
+  mutable std::mutex stats_mutex;
+  DisplayStats stats;
+  std::deque<double> intervals;
+  double interval_sum = 0;
+  std::optional<std::string> error;
+
+  double wall() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  }
+
+
+  // Moves one pixel's epoch from `from` to `to` in the coverage counts.
+  void count_epoch(uint32_t from, uint32_t to) {
+    if (from == to) return;
+    if (from != 0 && epoch_tag[from % kEpochRing] == from) --epoch_count[from % kEpochRing];
+    if (epoch_tag[to % kEpochRing] != to) {
+      epoch_tag[to % kEpochRing] = to;
+      epoch_count[to % kEpochRing] = 0;
+    }
+    ++epoch_count[to % kEpochRing];
+  }
+
+  // Recounts the coverage from scratch (after reprojection moved epochs around).
+  void recount_epochs(const PixelImage& img) {
+    epoch_tag.assign(kEpochRing, 0);
+    epoch_count.assign(kEpochRing, 0);
+    for (const DisplayPixel& p : img.px)
+      if (p.epoch != 0) count_epoch(0, p.epoch);
+  }
+  bool reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
+                 const PixelPoint* engine_points);
+  // Forgets what reprojection knew of the image (its points, marks and camera).
+  void reset_reprojection() {
+    points.clear();
+    marks.clear();
+    reproject_epoch = 0;
+    image_moved = false;
+  }
+
+  FrameInfo run_tick(double interval);
+  bool catch_up(const CollectResult& r);
+  void publish();
+  void thread_main();
+};
+
+namespace display_detail {
+
+// Blends one tick's collected updates into the back buffer, slot run by slot run (display thread).
+struct TickSink final : UpdateSink {
+  TickSink(DisplayThread::Impl& display, const DisplayConfig& config)
+      : d(display), rule(config.blend), reproject(config.blend.reproject) {}
+
+  DisplayThread::Impl& d;
+  const BlendRule rule;
+  bool reproject = false;     // asked for; on in frameless mode only
+  PixelImage* image = nullptr;
+  const std::atomic<uint8_t>* levels = nullptr;  // the engine's, by pixel (CollectResult::levels)
+  const PixelPoint* points = nullptr;            // the engine's, by pixel (reprojection only)
+  WantedRuns* wanted = nullptr;                  // closed-loop sampling: where to ask (else null)
+  bool asked = false;                            // asked for something since the last publish
+  std::vector<SlotRun>* dirty = nullptr;
+  bool full = false;          // this tick changed (or cleared) the whole image
+  bool conventional = false;
+  size_t dirty_slots = 0;     // slots in *dirty
+  uint64_t changed = 0;       // pixels blended
+  uint64_t rejected = 0;      // blends that came out non-finite (kept the previous value)
+
+  void begin(const CollectResult& r) override;
+  void slots(size_t first, const PixelState* states, size_t count) override;
+  void frame(const std::vector<PixelSnapshot>& pixels) override;
+  void show(DisplayPixel& m, const PixelSnapshot& u, bool guess);
+  void redirect(const PixelSnapshot& u, const ScenePoint& point);
+  void mark_dirty(size_t first, size_t count) {
+    if (full) return;
+    dirty->push_back({uint32_t(first), uint32_t(count)});
+    dirty_slots += count;
+    if (dirty_slots > image->pixels() / 4) full = true;  // cheaper to copy everything
+  }
+};
+
+}  // namespace display_detail
+}  // namespace frameless

@@ -1,0 +1,118 @@
+// The display thread's own image, stored in the engine's slot order (the order render threads
+// visit pixels): the slot layout, the per-tick change lists, and the export into the public
+// DisplayImage layers (pixel order). Display thread only.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "display/display_image.h"
+#include "display/display_pixel.h"
+#include "display/reproject.h"
+
+namespace frameless {
+namespace display_detail {
+
+constexpr uint64_t kHistory = 8;       // ticks of change lists kept (buffers and consumers catch up from them)
+
+// The engine's slot order and its inverse (built once per layout by the display thread).
+struct SlotLayout {
+  std::shared_ptr<const std::vector<uint32_t>> pixel_of;  // slot -> pixel (shared with the engine)
+  std::vector<uint32_t> slot_of;                          // pixel -> slot
+};
+using LayoutPtr = std::shared_ptr<const SlotLayout>;  // null: slot s is pixel s
+
+
+// A run of consecutive slots changed in one tick.
+struct SlotRun {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
+// What the last kHistory ticks changed: tick t's slot runs in runs[t % kHistory], or full[...]
+// when it changed (or cleared, or re-laid out) the whole image. Ticks before `newest` are recorded.
+struct ChangeHistory {
+  std::vector<SlotRun> runs[kHistory];
+  bool full[kHistory] = {};
+  uint64_t newest = 0;
+
+  // Whether an image holding ticks before `have` can be brought to ticks before `now` from runs.
+  bool covers(uint64_t have, uint64_t now) const {
+    if (have == 0 || have > now || now > newest || have + kHistory < newest) return false;
+    for (uint64_t t = have; t < now; ++t)
+      if (full[t % kHistory]) return false;
+    return true;
+  }
+};
+
+// The display thread's image: the DisplayImage layers interleaved per pixel, stored by slot.
+struct PixelImage {
+  int width = 0;
+  int height = 0;
+  LayoutPtr layout;
+  std::vector<DisplayPixel> px;
+  FrameInfo info;
+  ChangeHistory history;  // the display's change history when this image was published
+
+  size_t pixels() const { return size_t(width) * size_t(height); }
+  uint32_t pixel_of(size_t slot) const { return layout ? (*layout->pixel_of)[slot] : uint32_t(slot); }
+  uint32_t slot_of(size_t pixel) const { return layout ? layout->slot_of[pixel] : uint32_t(pixel); }
+  void reset(int w, int h, LayoutPtr l) {
+    width = w;
+    height = h;
+    layout = std::move(l);
+    px.assign(pixels(), DisplayPixel{});
+  }
+  // With the display's points and marks (which live outside the triple buffer: only the display
+  // thread reads them), for reprojection.
+  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
+                  const PixelPoint* engine_points = nullptr) {
+    return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
+            layout ? layout->slot_of.data() : nullptr,
+            px.data(),   points.data(), marks.data(), engine_points};
+  }
+};
+
+// Writes the layers of slot `s` of `src` into pixel i of `dst`.
+inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, size_t i) {
+  const DisplayPixel& p = src.px[s];
+  dst.rgb[3 * i] = p.rgb[0];
+  dst.rgb[3 * i + 1] = p.rgb[1];
+  dst.rgb[3 * i + 2] = p.rgb[2];
+  dst.last_update[i] = p.last_update;
+  dst.sample_count[i] = p.count;
+  dst.variance[i] = p.variance;
+  dst.epoch[i] = p.epoch;
+  dst.levels[i] = p.levels;
+}
+
+
+
+// `by_slot` (one entry per slot of `from`) with each pixel's entry moved to its slot under `to`
+// (a layout change, same size; null layouts: slot s is pixel s).
+template <typename T>
+std::vector<T> to_new_slots(const std::vector<T>& by_slot, const SlotLayout* from, const SlotLayout* to) {
+  std::vector<T> out(by_slot.size());
+  for (size_t s = 0; s < out.size(); ++s) {
+    const uint32_t pixel = to ? (*to->pixel_of)[s] : uint32_t(s);
+    out[s] = by_slot[from ? from->slot_of[pixel] : pixel];
+  }
+  return out;
+}
+
+LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order);
+
+// Converts the whole image into the public layer layout. It walks the pixels in order and
+// gathers each from its slot: the writes stream, and the reads of a band of rows stay within
+// the few hundred kilobytes of the Hilbert chunks that cover it.
+void export_image(const PixelImage& src, DisplayImage& dst);
+
+// Brings `out` (public layers, pixel order) up to `img`: patches the slots changed since the
+// image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it.
+void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced);
+
+// dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).
+void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout);
+
+}  // namespace display_detail
+}  // namespace frameless

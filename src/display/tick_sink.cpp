@@ -1,0 +1,140 @@
+// One display tick's blend: each collected update of the render threads blended into the back
+// buffer (exponential decay or convergence), redirected by reprojection, or asked for again by
+// closed-loop sampling. Display thread.
+#include "display/display_thread_impl.h"
+
+namespace frameless {
+namespace display_detail {
+
+void TickSink::begin(const CollectResult& r) {
+  conventional = r.mode == RenderMode::conventional;
+  full = d.catch_up(r);
+  image = &d.buf[d.back];
+  levels = r.levels;
+  dirty = &d.history.runs[d.tick_index % kHistory];
+  dirty->clear();
+  reproject = reproject && !conventional && r.points;
+  wanted = conventional ? nullptr : r.wanted;
+  points = reproject ? r.points : nullptr;
+  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points)) {
+    full = true;
+    if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
+      const uint8_t* marks = d.marks.data();
+      for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)
+        if (marks[pixel] & (kMarkUnknown | kMarkStale)) wanted->want(image->slot_of(pixel));
+      wanted->publish();
+    }
+  }
+}
+
+// Closed loop: a sample of the same camera far from what its pixel shows (beyond its noise, as
+// temporal_alpha judges) means something moves there: ask for its run again soon. (After a camera
+// change every pixel jumps; reprojection's marks ask for what matters then.)
+inline bool jumps(const DisplayPixel& m, const PixelSnapshot& u) {
+  // Four samples at least: before that the pixel's noise is not known.
+  if (m.epoch == 0 || m.epoch != u.epoch || u.count < 4) return false;
+  return temporal_alpha(1.0f, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u) >= 1.0f;
+}
+
+// `guess`: what the pixel shows was guessed by reprojection (a crack, a disocclusion, something
+// that may have moved): the first real sample replaces it whole.
+inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u, bool guess) {
+  bool bad = false;
+  const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]),
+                             guess ? 0u : m.epoch, m.last_update, u, &bad);
+  rejected += bad;
+  d.count_epoch(m.epoch, u.epoch);
+  m.rgb[0] = c.x;
+  m.rgb[1] = c.y;
+  m.rgb[2] = c.z;
+  m.last_update = u.time;
+  m.count = u.count;
+  m.variance = std::isfinite(u.variance) ? u.variance : 0.0f;
+  m.epoch = u.epoch;
+  ++changed;
+}
+
+// An update rendered with a camera older than the one the image was moved to belongs where its
+// point now projects (the render cache): blended there if nothing nearer is shown, never at its
+// own pixel, which shows moved content by now.
+void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
+  float px, py, depth;
+  const CameraBasis& b = d.reproject_basis;
+  if (!project_point(b, point, px, py, depth)) return;
+  const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
+  const size_t slot = image->slot_of(pixel);
+  uint8_t& mark = d.marks[pixel];
+  // A marked pixel shows moved content with its moved point; an unmarked one its own newest
+  // update (a point its owner keeps rewriting: leave the pixel as it is).
+  ScenePoint shown;
+  if (mark)
+    shown = d.points[pixel];
+  else if (!read_point(points[pixel], shown))
+    return;
+  float sx, sy, shown_depth;
+  const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
+  if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
+  DisplayPixel& m = image->px[slot];
+  const Vec3 c = (mark & kMarkGuess) ? u.sample : blend(Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u.sample, rule.config.alpha);
+  if (!is_finite(c)) return;
+  m.rgb[0] = c.x;
+  m.rgb[1] = c.y;
+  m.rgb[2] = c.z;
+  d.points[pixel] = point;
+  mark = kMarkMoved;
+  ++d.reproject_totals.redirected;
+  mark_dirty(slot, 1);
+}
+
+void TickSink::slots(size_t first, const PixelState* states, size_t count) {
+  DisplayPixel* px = image->px.data() + first;
+  uint32_t* seq = d.shown_seq.data() + first;
+  PixelSnapshot u;
+  for (size_t i = 0; i < count; ++i) {
+    // A slot whose owner kept writing it is picked up on the owner's next visit.
+    if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == seq[i]) continue;
+    seq[i] = u.seq;
+    const size_t pixel = image->pixel_of(first + i);
+    uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
+    if (points) {
+      if (u.epoch < d.reproject_epoch && d.image_moved) {
+        // The update's own point (read in the same sequence lock); if a newer update has replaced
+        // it, that one is collected at the next tick instead.
+        ScenePoint point;
+        if (read_point_of(states[i], u.seq, points[pixel], point)) redirect(u, point);
+        continue;
+      }
+      mark = &d.marks[pixel];
+    }
+    const bool guess = mark && (*mark & kMarkGuess);
+    if (wanted && !guess && jumps(px[i], u)) {
+      wanted->want(first + i);
+      asked = true;
+    }
+    show(px[i], u, guess);
+    // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
+    // costs a byte per update here, not a point.
+    if (mark && *mark) *mark = kMarkNone;
+    // Read after the state's seq: these levels are the shown update's or a newer one's.
+    if (levels) px[i].levels = levels[pixel].load(std::memory_order_relaxed);
+  }
+  mark_dirty(first, count);
+  if (asked) {  // inside collect(): the asks stay valid (the layout is locked)
+    wanted->publish();
+    asked = false;
+  }
+}
+
+void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
+  const size_t n = std::min(pixels.size(), image->px.size());
+  for (size_t i = 0; i < n; ++i) {
+    if (pixels[i].epoch == 0) continue;
+    show(image->px[i], pixels[i], false);
+    d.shown_seq[i] = 0;  // frames carry no sequence number; frameless updates compare against 0
+    image->px[i].levels = pixels[i].levels;
+  }
+  full = true;
+}
+
+}  // namespace display_detail
+}  // namespace frameless

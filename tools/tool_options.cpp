@@ -1,0 +1,25 @@
+// Flags of the shared options: see tool_options.h.
+#include "tools/tool_options.h"
+
+namespace frameless::cli {
+
+void add_camera_flags(CLI::App& app, CameraOptions& camera) {
+  app.add_option("--eye", camera.eye, "camera position x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--look", camera.look, "look-at point x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--up", camera.up, "up vector x,y,z")->delimiter(',')->expected(3);
+  app.add_option("--fov", camera.fov, "vertical field of view in degrees (0, 180)");
+}
+
+void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
+  app.add_option("--shadows", shadows.mode,
+                 "shadows of lights with a radius: soft (single-sample, default), hard, or area "
+                 "(reference: --shadow-samples rays per light)");
+  app.add_option("--shadow-samples", shadows.samples, "rays per light for --shadows area (1..4096)");
+  app.add_flag("--transparent-shadows", shadows.transparent,
+               "dielectrics attenuate shadow rays (k_t and absorption) instead of blocking them");
+  app.add_option("--accel", shadows.accel,
+                 "acceleration structure: bvh (default), grid (Parker's hybrid grid) or auto "
+                 "(whichever does less work on a trial of the scene's rays)");
+}
+
+}  // namespace frameless::cli

@@ -1,0 +1,27 @@
+// Flags of the options shared by several commands (camera, shadows); main thread only. The
+// options themselves, the size and thread checks and scene loading live in src/bench.
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include "bench/bench_options.h"
+
+namespace frameless::cli {
+
+using bench::CameraOptions;
+using bench::hardware_threads;
+using bench::load_scene_checked;
+using bench::load_scene_or_report;
+using bench::parse_size;
+using bench::quiet_rank;
+using bench::report_error;
+using bench::ShadowOptions;
+using bench::show_progress;
+using bench::valid_threads;
+
+// --eye/--look/--up x,y,z and --fov DEG into `camera`.
+void add_camera_flags(CLI::App& app, CameraOptions& camera);
+
+// --shadows, --shadow-samples, --transparent-shadows and --accel into `shadows`.
+void add_shadow_flags(CLI::App& app, ShadowOptions& shadows);
+
+}  // namespace frameless::cli
