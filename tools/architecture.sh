@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # Draws docs/architecture.svg, the libraries and their links, from the build itself: CMake's
 # --graphviz output of a configure (nothing is compiled) rendered by Graphviz's dot, so the
-# picture cannot drift from the code. Usage: tools/architecture.sh [OUT.svg]
+# picture cannot drift from the code. Usage: tools/architecture.sh [OUT.svg | --check]
+# --check: draws it afresh and fails when docs/architecture.svg differs (a test runs this).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+check=0
 out=${1:-$root/docs/architecture.svg}
+if [ "$out" = "--check" ]; then check=1; out=$(mktemp --suffix=.svg); fi
 tools_dir=$root/tools
 "$tools_dir/install-deps.sh" --docs
 dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
+trap 'rm -rf "$dir"; [ $check = 0 ] || rm -f "$out"' EXIT
 # Our targets only: third-party libraries and the test suites would hide the layers.
 cat >"$dir/CMakeGraphVizOptions.cmake" <<'OPTS'
 set(GRAPHVIZ_GRAPH_NAME "frameless")
@@ -42,4 +45,10 @@ PY
 # once, as that path (an upward link would still show, as a cycle).
 tred "$dir/styled.dot" >"$dir/reduced.dot"
 dot -Tsvg "$dir/reduced.dot" -o "$out"
-echo "wrote $out ($(grep -c '<g id="node' "$out") libraries)"
+if [ $check = 1 ]; then
+  cmp -s "$out" "$root/docs/architecture.svg" ||
+    { echo "docs/architecture.svg is out of date with the CMake targets: run tools/architecture.sh" >&2; exit 1; }
+  echo "docs/architecture.svg matches the build ($(grep -c '<g id="node' "$out") libraries)"
+else
+  echo "wrote $out ($(grep -c '<g id="node' "$out") libraries)"
+fi

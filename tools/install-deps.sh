@@ -7,9 +7,9 @@ build_pkgs=(build-essential cmake pkg-config git libglm-dev libopenexr-dev nlohm
   libtinyobjloader-dev libcli11-dev libpng-dev libglfw3-dev libosmesa6-dev libgl-dev
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
   libopenmpi-dev openmpi-bin)
-test_pkgs=(xvfb xauth clang libclang-rt-14-dev)
+test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3)
 bench_pkgs=(libembree-dev gnuplot)
-docs_pkgs=(graphviz)  # tools/architecture.sh draws docs/architecture.svg with dot
+docs_pkgs=(graphviz python3)  # tools/architecture.sh: dot draws docs/architecture.svg, python3 styles it
 
 want=("${build_pkgs[@]}")
 for arg in "$@"; do
