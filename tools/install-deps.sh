@@ -3,7 +3,7 @@
 # when everything is present). Usage: tools/install-deps.sh [--test] [--bench] [--docs]
 set -euo pipefail
 
-build_pkgs=(build-essential cmake pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
+build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
   libtinyobjloader-dev libcli11-dev libpng-dev libglfw3-dev libosmesa6-dev libgl-dev
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
   libopenmpi-dev openmpi-bin)

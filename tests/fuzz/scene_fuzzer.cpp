@@ -129,8 +129,8 @@ void check_image(const Image& img) {
     }
 }
 
-// The invariants scene_io.h documents for MeshData (what add_mesh relies on). A shared mesh
-// uses its model's materials: `materials` is their count (~0: the mesh's own).
+// The invariants core/scene/mesh_data.h documents for MeshData (what add_mesh relies on). A shared
+// mesh uses its model's materials: `materials` is their count (~0: the mesh's own).
 void check_mesh(const MeshData& m, size_t materials = ~size_t(0)) {
   if (materials == ~size_t(0)) materials = m.materials.size();
   const size_t nv = m.positions.size();

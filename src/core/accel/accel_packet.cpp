@@ -40,7 +40,8 @@ struct PacketEntry {
 };
 
 // a * b rounded, hidden from contraction: GCC's intrinsics are plain vector arithmetic, which
-// -ffp-contract=fast would fuse into FMAs the scalar test (intersect_fp.h) does not perform.
+// -ffp-contract=fast would fuse into FMAs the scalar test (core/base/fused_float.h) does not
+// perform.
 inline __m256 mul8(__m256 a, __m256 b) {
   __m256 p = _mm256_mul_ps(a, b);
   asm("" : "+x"(p));

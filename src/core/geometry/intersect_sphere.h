@@ -15,7 +15,7 @@ namespace frameless {
 inline bool intersect_sphere(const Vec3& org, const Vec3& dir, const Sphere& s, float tmin,
                              float tmax, float& t) {
   const Vec3 f = org - s.center;
-  // Explicit rounding (intersect_fp.h) so every call site returns the same t.
+  // Explicit rounding (core/base/fused_float.h) so every call site returns the same t.
   const float a = dot_exact(dir, dir);
   const float b = dot_exact(f, dir);  // half the linear coefficient
   const float s_b = b / a;

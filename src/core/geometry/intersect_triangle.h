@@ -43,8 +43,9 @@ inline bool intersect_triangle(const TriangleRay& r, const Vec3& p0, const Vec3&
   const float a_x = q0[r.kx] - r.ox, a_y = q0[r.ky] - r.oy, a_z = q0[r.kz] - r.oz;
   const float b_x = q1[r.kx] - r.ox, b_y = q1[r.ky] - r.oy, b_z = q1[r.kz] - r.oz;
   const float c_x = q2[r.kx] - r.ox, c_y = q2[r.ky] - r.oy, c_z = q2[r.kz] - r.oz;
-  // Sheared coordinates and 2D edge functions with a fixed rounding sequence (intersect_fp.h):
-  // a shared edge's function must be the exact negative of its neighbour's.
+  // Sheared coordinates and 2D edge functions with a fixed rounding sequence
+  // (core/base/fused_float.h): a shared edge's function must be the exact negative of its
+  // neighbour's.
   const float ax = fmadd(-r.sx, a_z, a_x), ay = fmadd(-r.sy, a_z, a_y);
   const float bx = fmadd(-r.sx, b_z, b_x), by = fmadd(-r.sy, b_z, b_y);
   const float cx = fmadd(-r.sx, c_z, c_x), cy = fmadd(-r.sy, c_z, c_y);
