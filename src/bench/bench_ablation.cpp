@@ -17,14 +17,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "core/scene/scene_analysis.h"
+#include "core/scenes/scene_variants.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
 #include "frameless/image_error.h"
 #include "frameless/tile_render.h"
-#include "core/scenes/scene_variants.h"
 
 namespace frameless::bench {
 namespace {

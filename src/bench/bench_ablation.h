@@ -1,5 +1,6 @@
 // `frameless bench ablation`: each skip of the per-sample path (and variance tracking, adaptive
-// sampling) off vs on, time saved and image unchanged. Its flags are in tools/bench_ablation.cpp.
+// sampling) off vs on, time saved and image unchanged. Its flags are in
+// tools/bench_ablation_command.cpp.
 #pragma once
 #include <string>
 

@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
-#include "frameless/cpu_clock.h"
+#include "bench/bench_report.h"
 #include "core/scene/scene_finalize.h"
+#include "frameless/cpu_clock.h"
 
 namespace frameless::bench {
 namespace {

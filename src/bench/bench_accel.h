@@ -1,5 +1,5 @@
 // `frameless bench accel`: the BVH against the hybrid grid per scene (build time, memory, Mrays/s)
-// and what auto chooses. Its flags are in tools/bench_accel.cpp.
+// and what auto chooses. Its flags are in tools/bench_accel_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

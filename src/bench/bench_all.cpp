@@ -11,8 +11,8 @@
 #include <fstream>
 #include <memory>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 
 namespace frameless::bench {
 namespace {

@@ -1,5 +1,5 @@
 // `frameless bench all`: error, motion, latency, scaling and scale into one directory, as child
-// processes of this executable. Its flags are in tools/bench_all.cpp.
+// processes of this executable. Its flags are in tools/bench_all_command.cpp.
 #pragma once
 #include <string>
 

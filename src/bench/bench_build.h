@@ -1,5 +1,5 @@
 // `frameless bench build`: BVH build time, serial and parallel, against Embree's with 1 and N
-// threads. Its flags are in tools/bench_build.cpp.
+// threads. Its flags are in tools/bench_build_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -21,9 +21,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "bench/cluster_join.h"
-#include "bench/bench_options.h"
 #include "bench/latency_trial.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"

@@ -1,10 +1,10 @@
 // `frameless bench cluster`: frameless across Open MPI ranks against one process (starts mpirun
-// jobs of this executable). Its flags are in tools/bench_cluster.cpp.
+// jobs of this executable). Its flags are in tools/bench_cluster_command.cpp.
 #pragma once
 #include <string>
 
-#include "bench/cluster_join.h"
 #include "bench/bench_options.h"
+#include "bench/cluster_join.h"
 
 namespace frameless::bench {
 

@@ -1,5 +1,5 @@
 // `frameless bench dynamic`: samples/s against the number of moving objects (tested per ray,
-// outside the BVH). Its flags are in tools/bench_dynamic.cpp.
+// outside the BVH). Its flags are in tools/bench_dynamic_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -15,8 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "bench/latency_trial.h"
 #include "display/camera_path.h"
 #include "display/display_thread.h"

@@ -1,5 +1,5 @@
 // `frameless bench engine`: frameless vs conventional samples/s, display CPU, camera-change
-// latency. Its flags are in tools/bench_engine.cpp.
+// latency. Its flags are in tools/bench_engine_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "bench/bench_live.h"
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "core/scenes/scene_load.h"
 #include "frameless/reference_cache.h"
 

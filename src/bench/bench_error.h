@@ -1,5 +1,5 @@
 // `frameless bench error`: static convergence, the displayed image's error vs time and samples. Its
-// flags are in tools/bench_error.cpp.
+// flags are in tools/bench_error_command.cpp.
 #pragma once
 #include <string>
 

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "bench/bench_options.h"
-#include "core/scene/camera.h"
 #include "core/accel/instance_top.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
 namespace frameless::bench {

@@ -1,5 +1,5 @@
 // `frameless bench instances`: the cost of moving instances (copy, refit or rebuild of the top
-// level) and the rays' speed after. Its flags are in tools/bench_instances.cpp.
+// level) and the rays' speed after. Its flags are in tools/bench_instances_command.cpp.
 #pragma once
 #include <string>
 

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "bench/latency_trial.h"
 #include "frameless/engine.h"
 

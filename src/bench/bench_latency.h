@@ -1,5 +1,5 @@
 // `frameless bench latency`: from a camera change to 50/95/100 % of the pixels showing it, against
-// the ideal. Its flags are in tools/bench_latency.cpp.
+// the ideal. Its flags are in tools/bench_latency_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -10,8 +10,8 @@
 #include <memory>
 
 #include "bench/bench_live.h"
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "display/camera_path.h"
 #include "frameless/reference_cache.h"
 

@@ -1,5 +1,5 @@
 // `frameless bench motion`: a moving camera, every displayed image's error vs the converged image
-// for that instant. Its flags are in tools/bench_motion.cpp.
+// for that instant. Its flags are in tools/bench_motion_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 
 namespace frameless::bench {
 namespace {

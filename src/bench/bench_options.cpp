@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <thread>
 
-#include "core/scenes/scene_load.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless::bench {
 

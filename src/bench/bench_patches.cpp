@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
-#include "frameless/image_error.h"
+#include "bench/bench_report.h"
 #include "core/scene/scene_finalize.h"
+#include "frameless/image_error.h"
 
 namespace frameless::bench {
 namespace {

@@ -1,5 +1,5 @@
 // `frameless bench patches`: spline patches traced directly against the same patches tessellated,
-// and Broyden's iteration counts. Its flags are in tools/bench_patches.cpp.
+// and Broyden's iteration counts. Its flags are in tools/bench_patches_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -17,8 +17,8 @@
 #include <thread>
 #include <vector>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "core/accel/instance.h"
 #include "core/scene/scene.h"
 #include "frameless/cpu_clock.h"

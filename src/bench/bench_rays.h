@@ -1,5 +1,5 @@
 // `frameless bench rays`: primary- and shadow-ray throughput of the BVH (and of Embree when built
-// with it). Its flags are in tools/bench_rays.cpp.
+// with it). Its flags are in tools/bench_rays_command.cpp.
 #pragma once
 #include <string>
 

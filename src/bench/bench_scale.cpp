@@ -12,8 +12,8 @@
 #include <memory>
 #include <thread>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "core/scenes/builtin_scenes.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/tile_render.h"

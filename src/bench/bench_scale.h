@@ -1,5 +1,5 @@
 // `frameless bench scale`: spheres:N up to 3.5e7 (build time, memory, samples/s, sub-linear ray
-// cost). Its flags are in tools/bench_scale.cpp.
+// cost). Its flags are in tools/bench_scale_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -10,8 +10,8 @@
 #include <memory>
 #include <thread>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
 #include "frameless/engine.h"
 #include "frameless/tile_render.h"
 

@@ -1,5 +1,5 @@
 // `frameless bench scaling`: samples/s and Mrays/s vs threads, oversubscribed too, and the
-// efficiency vs linear. Its flags are in tools/bench_scaling.cpp.
+// efficiency vs linear. Its flags are in tools/bench_scaling_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -10,12 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include "bench/bench_options.h"
+#include "bench/bench_report.h"
+#include "core/scene/scene_finalize.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/image_error.h"
 #include "frameless/tile_render.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless::bench {
 namespace {

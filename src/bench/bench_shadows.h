@@ -1,5 +1,5 @@
 // `frameless bench shadows`: cost and accuracy of hard, soft, area-sampled and transparent shadows,
-// and of the hemisphere ambient. Its flags are in tools/bench_shadows.cpp.
+// and of the hemisphere ambient. Its flags are in tools/bench_shadows_command.cpp.
 #pragma once
 #include <string>
 #include <vector>

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/geometry/geometry.h"
+#include "core/scene/camera.h"
 #include "frameless/engine.h"
 #include "frameless/remote_frames.h"
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/base/error.h"
+#include "core/scene/camera.h"
 
 namespace frameless {
 

@@ -12,10 +12,10 @@
 #include <mutex>
 #include <thread>
 
-#include "display/display_thread.h"
 #include "display/display_pixel.h"
-#include "display/slot_image.h"
+#include "display/display_thread.h"
 #include "display/reproject.h"
+#include "display/slot_image.h"
 #include "frameless/cpu_clock.h"
 
 namespace frameless {

@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/scene/dynamic.h"
 #include "display/camera_controls.h"
 #include "display/camera_path.h"
 #include "display/capture.h"
@@ -22,7 +23,6 @@
 #include "display/manifest.h"
 #include "display/png_io.h"
 #include "frameless/engine.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 namespace {

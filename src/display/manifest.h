@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/scene/camera.h"
 #include "core/base/error.h"
+#include "core/scene/camera.h"
 
 namespace frameless {
 

@@ -10,8 +10,8 @@
 #include <limits>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/base/fused_float.h"
+#include "core/scene/camera.h"
 #include "display/display_pixel.h"
 #include "frameless/pixel_points.h"
 

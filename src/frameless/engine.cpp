@@ -7,8 +7,8 @@
 #include <stdexcept>
 
 #include "core/base/rng.h"
-#include "frameless/engine_impl.h"
 #include "core/scene/dynamic.h"
+#include "frameless/engine_impl.h"
 
 namespace frameless {
 

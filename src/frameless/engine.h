@@ -10,8 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/accel/instance_top.h"
+#include "core/scene/camera.h"
+#include "core/scene/dynamic.h"
 #include "core/scene/scene.h"
 #include "frameless/closed_loop.h"
 #include "frameless/engine_config.h"
@@ -20,7 +21,6 @@
 #include "frameless/pixel_state.h"
 #include "frameless/remote_frames.h"
 #include "frameless/update_log.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "core/scene/dynamic.h"
 #include "frameless/adaptive.h"
 #include "frameless/camera_channel.h"
 #include "frameless/closed_loop.h"
@@ -19,7 +20,6 @@
 #include "frameless/pixel_points.h"
 #include "frameless/remote_frames.h"
 #include "frameless/world_channel.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 

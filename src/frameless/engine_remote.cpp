@@ -3,9 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/scene/dynamic.h"
 #include "frameless/engine.h"
 #include "frameless/engine_impl.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 

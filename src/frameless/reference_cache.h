@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/base/error.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
 namespace frameless {

@@ -7,10 +7,10 @@
 #include <memory>
 #include <vector>
 
-#include "core/scene/camera.h"
-#include "core/scene/dynamic.h"
 #include "core/accel/instance_top.h"
 #include "core/base/types.h"
+#include "core/scene/camera.h"
+#include "core/scene/dynamic.h"
 
 namespace frameless {
 

@@ -8,8 +8,8 @@
 #include <thread>
 
 #include "core/accel/instance_top.h"
-#include "core/shading/render_sample.h"
 #include "core/scene/instance_moves.h"
+#include "core/shading/render_sample.h"
 
 namespace frameless {
 

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "core/base/rng.h"
-#include "core/scenes/scene_load.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 namespace {

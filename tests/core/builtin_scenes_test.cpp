@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/scene/dynamic.h"
 #include "core/scenes/builtin_scenes.h"
 #include "core/scenes/scene_load.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 namespace {

@@ -5,11 +5,11 @@
 #include <cmath>
 
 #include "core/scene/dynamic.h"
-#include "core/shading/render_sample.h"
 #include "core/scene/scene.h"
-#include "core/scenes/scene_load.h"
-#include "core/shading/soft_shadow.h"
 #include "core/scene/scene_intersect.h"
+#include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
+#include "core/shading/soft_shadow.h"
 
 namespace frameless {
 namespace {

@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/io/file_util.h"
 #include "core/scene/scene_build.h"
 #include "core/scenes/scene_load.h"
-#include "core/io/file_util.h"
 
 #include "gltf_test_util.h"
 

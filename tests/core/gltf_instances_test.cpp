@@ -14,11 +14,11 @@
 #include <gtest/gtest.h>
 
 #include "core/accel/instance.h"
-#include "core/shading/render_sample.h"
-#include "core/scene/scene_build.h"
-#include "core/scenes/scene_load.h"
 #include "core/io/file_util.h"
+#include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
 
 #include "gltf_instances_util.h"
 #include "gltf_test_util.h"

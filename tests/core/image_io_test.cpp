@@ -14,9 +14,9 @@
 #include <jpeglib.h>
 #include <png.h>
 
+#include "core/io/image_io.h"
 #include "core/scene/texture.h"
 #include "png_chunks.h"
-#include "core/io/image_io.h"
 
 namespace frameless {
 namespace {

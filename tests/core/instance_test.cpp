@@ -5,13 +5,13 @@
 
 #include <cmath>
 
-#include "core/scenes/builtin_scenes.h"
 #include "core/accel/instance.h"
 #include "core/accel/instance_top.h"
-#include "core/shading/render_sample.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
 #include "core/scene/scene_intersect.h"
+#include "core/scenes/builtin_scenes.h"
+#include "core/shading/render_sample.h"
 
 namespace frameless {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "core/geometry/surface.h"
-#include "core/shading/render_sample.h"
 #include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
 #include "core/shading/soft_shadow.h"
 
 namespace frameless {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include "shading_scenes.h"
 #include "core/scene/scene_finalize.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {

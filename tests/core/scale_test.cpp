@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/scene/scene_finalize.h"
 #include "core/shading/render_sample.h"
 #include "shading_scenes.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "shading_scenes.h"
 #include "core/scene/scene_finalize.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {

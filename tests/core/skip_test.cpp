@@ -6,12 +6,12 @@
 #include <cstring>
 #include <vector>
 
-#include "core/shading/render_sample.h"
 #include "core/scene/scene_analysis.h"
-#include "core/scenes/scene_load.h"
-#include "core/shading/shading.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
 #include "core/scenes/scene_variants.h"
+#include "core/shading/render_sample.h"
+#include "core/shading/shading.h"
 
 namespace frameless {
 namespace {

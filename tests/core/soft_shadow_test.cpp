@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/shading/render_sample.h"
 #include "core/scene/scene_build.h"
+#include "core/scene/scene_finalize.h"
 #include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
 #include "core/shading/soft_shadow.h"
 #include "shading_scenes.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

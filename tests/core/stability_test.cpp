@@ -6,12 +6,12 @@
 #include <cmath>
 #include <vector>
 
-#include "core/shading/render_sample.h"
 #include "core/scene/scene_analysis.h"
-#include "core/scenes/scene_load.h"
-#include "shading_scenes.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
 #include "core/scenes/scene_variants.h"
+#include "core/shading/render_sample.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {

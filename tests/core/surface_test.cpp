@@ -8,8 +8,8 @@
 
 #include "core/base/rng.h"
 #include "core/scene/scene.h"
-#include "shading_scenes.h"
 #include "core/scene/scene_finalize.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {

@@ -6,13 +6,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/shading/render_sample.h"
 #include "core/scene/scene_build.h"
-#include "core/scenes/scene_load.h"
-#include "core/shading/soft_shadow.h"
-#include "core/scene/texturing.h"
-#include "shading_scenes.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scene/texturing.h"
+#include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
+#include "core/shading/soft_shadow.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {

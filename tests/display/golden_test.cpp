@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "core/shading/render_sample.h"
+#include "core/scene/scene_finalize.h"
 #include "core/scenes/scene_load.h"
+#include "core/shading/render_sample.h"
 #include "display/exr_io.h"
 #include "display/png_io.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

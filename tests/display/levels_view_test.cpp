@@ -16,8 +16,8 @@
 #include <set>
 
 #include "../engine/test_shaders.h"
-#include "core/scenes/scene_load.h"
 #include "core/scene/texture.h"
+#include "core/scenes/scene_load.h"
 #include "display/capture.h"
 #include "display/display_thread.h"
 #include "display/exr_io.h"

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "core/scene/scene.h"
-#include "frameless/stats_run.h"
 #include "core/scene/scene_finalize.h"
+#include "frameless/stats_run.h"
 
 namespace frameless {
 namespace {

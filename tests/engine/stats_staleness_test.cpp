@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "core/scene/scene.h"
+#include "core/scene/scene_finalize.h"
 #include "frameless/stats_analysis.h"
 #include "frameless/stats_run.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

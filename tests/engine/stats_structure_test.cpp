@@ -10,9 +10,9 @@
 
 #include "core/base/rng.h"
 #include "core/scene/scene.h"
+#include "core/scene/scene_finalize.h"
 #include "frameless/stats_analysis.h"
 #include "frameless/stats_run.h"
-#include "core/scene/scene_finalize.h"
 
 namespace frameless {
 namespace {

@@ -9,12 +9,12 @@
 #include <cstdlib>
 #include <thread>
 
-#include "core/scenes/builtin_scenes.h"
+#include "core/scene/dynamic.h"
 #include "core/scene/scene.h"
+#include "core/scene/scene_finalize.h"
+#include "core/scenes/builtin_scenes.h"
 #include "display/display_thread.h"
 #include "frameless/world_channel.h"
-#include "core/scene/scene_finalize.h"
-#include "core/scene/dynamic.h"
 
 namespace frameless {
 namespace {

@@ -41,13 +41,13 @@
 #include <system_error>
 
 #include "cluster/wire.h"
-#include "core/scene/scene.h"
-#include "core/scene/scene_build.h"
-#include "core/scenes/scene_load.h"
-#include "core/scene/texture.h"
 #include "core/io/patch_io.h"
 #include "core/io/sphere_file.h"
+#include "core/scene/scene.h"
+#include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scene/texture.h"
+#include "core/scenes/scene_load.h"
 
 namespace {
 

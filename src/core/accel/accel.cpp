@@ -11,9 +11,9 @@
 #endif
 
 #include "core/accel/accel_impl.h"
-#include "core/accel/instance_top.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/bvh_build_spheres.h"
+#include "core/accel/instance_top.h"
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
 

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/geometry/ray.h"
 #include "core/base/types.h"
+#include "core/geometry/ray.h"
 
 namespace frameless {
 

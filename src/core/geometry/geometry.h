@@ -5,8 +5,8 @@
 
 #include <glm/mat3x3.hpp>
 
-#include "core/geometry/bezier.h"
 #include "core/base/types.h"
+#include "core/geometry/bezier.h"
 
 namespace frameless {
 

@@ -2,8 +2,8 @@
 #pragma once
 #include <cmath>
 
-#include "core/geometry/geometry.h"
 #include "core/base/fused_float.h"
+#include "core/geometry/geometry.h"
 #include "core/geometry/ray.h"
 
 namespace frameless {

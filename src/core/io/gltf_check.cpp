@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/file_util.h"
 #include "core/io/gltf_internal.h"
 #include "core/scene/scene_build.h"
-#include "core/io/file_util.h"
 
 namespace frameless::gltf {
 namespace {

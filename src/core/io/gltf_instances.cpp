@@ -7,8 +7,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "core/io/gltf_internal.h"
 #include "core/accel/instance.h"
+#include "core/io/gltf_internal.h"
 #include "core/scene/scene_build.h"
 
 namespace frameless::gltf {

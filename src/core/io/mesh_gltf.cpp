@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/io/file_util.h"
 #include "core/io/gltf_internal.h"
 #include "core/scene/scene_build.h"
-#include "core/io/file_util.h"
 
 namespace frameless {
 namespace {

@@ -35,10 +35,10 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "core/io/mesh_obj.h"
-#include "core/scene/scene_build.h"
-#include "core/io/text_tokens.h"
 #include "core/io/file_util.h"
+#include "core/io/mesh_obj.h"
+#include "core/io/text_tokens.h"
+#include "core/scene/scene_build.h"
 
 namespace frameless {
 namespace {

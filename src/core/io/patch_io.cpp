@@ -8,8 +8,8 @@
 #include <limits>
 #include <optional>
 
-#include "core/scene/scene_build.h"
 #include "core/io/file_util.h"
+#include "core/scene/scene_build.h"
 
 namespace frameless {
 namespace {

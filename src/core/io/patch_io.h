@@ -5,8 +5,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/geometry/bezier.h"
 #include "core/base/error.h"
+#include "core/geometry/bezier.h"
 
 namespace frameless {
 

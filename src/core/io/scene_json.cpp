@@ -8,13 +8,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/accel/instance.h"
-#include "core/scene/scene_build.h"
 #include "core/io/file_util.h"
-#include "core/io/scene_json.h"
 #include "core/io/mesh_readers.h"
+#include "core/io/scene_json.h"
 #include "core/io/scene_json_materials.h"
 #include "core/io/scene_json_motion.h"
 #include "core/io/scene_json_patches.h"
+#include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
 
 namespace frameless {

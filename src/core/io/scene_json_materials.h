@@ -4,9 +4,9 @@
 #include <set>
 #include <string>
 
-#include "core/scene/scene.h"
-#include "core/io/scene_json_util.h"
 #include "core/io/image_io.h"
+#include "core/io/scene_json_util.h"
+#include "core/scene/scene.h"
 
 namespace frameless::scene_json {
 

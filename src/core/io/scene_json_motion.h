@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene/scene.h"
 #include "core/io/scene_json_util.h"
+#include "core/scene/scene.h"
 
 namespace frameless::scene_json {
 

@@ -3,8 +3,8 @@
 #pragma once
 #include <string>
 
-#include "core/scene/scene.h"
 #include "core/io/scene_json_util.h"
+#include "core/scene/scene.h"
 
 namespace frameless::scene_json {
 

@@ -2,8 +2,8 @@
 #pragma once
 #include <string>
 
-#include "core/scene/texture.h"
 #include "core/base/types.h"
+#include "core/scene/texture.h"
 
 namespace frameless {
 

@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "core/accel/accel.h"
+#include "core/geometry/geometry.h"
 #include "core/scene/camera.h"
 #include "core/scene/dynamic_object.h"
-#include "core/geometry/geometry.h"
 #include "core/scene/light.h"
 #include "core/scene/material.h"
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/scene/scene.h"
 #include "core/scene/dynamic.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

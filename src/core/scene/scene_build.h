@@ -6,8 +6,8 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/base/error.h"
-#include "core/scene/scene.h"
 #include "core/scene/mesh_data.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

@@ -1,8 +1,8 @@
 // Textures applied at hits: texture coordinates of a hit, textured material parameters and
 // perturbed shading normals, and the alpha cut-out test the traversal calls. Pure, any thread.
 #pragma once
-#include "core/scene/scene.h"
 #include "core/geometry/surface.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

@@ -1,7 +1,7 @@
 // The built-in "balls" scene: Parker's bouncing balls (seed figure 2) as real physics.
-#include "core/scenes/builtin_scenes.h"
 #include "core/base/rng.h"
 #include "core/scene/scene_build.h"
+#include "core/scenes/builtin_scenes.h"
 
 namespace frameless {
 

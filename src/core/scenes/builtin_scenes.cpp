@@ -7,8 +7,8 @@
 
 #include "core/base/rng.h"
 #include "core/scene/scene_build.h"
-#include "core/scenes/scene_load.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless {
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <string_view>
 
-#include "core/scenes/builtin_scenes.h"
 #include "core/accel/instance.h"
 #include "core/base/rng.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
+#include "core/scenes/builtin_scenes.h"
 
 namespace frameless {
 namespace {

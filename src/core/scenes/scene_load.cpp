@@ -4,10 +4,10 @@
 
 #include <cstdio>
 
-#include "core/io/mesh_obj.h"
-#include "core/scene/scene_build.h"
-#include "core/io/sphere_file.h"
 #include "core/io/file_util.h"
+#include "core/io/mesh_obj.h"
+#include "core/io/sphere_file.h"
+#include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
 
 namespace frameless {

@@ -2,8 +2,8 @@
 // Deterministic in its inputs; safe to call from any number of threads on a finalized Scene.
 #pragma once
 #include "core/scene/camera.h"
-#include "core/scene/scene.h"
 #include "core/scene/dynamic.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

@@ -21,11 +21,11 @@
 #include <utility>
 
 #include "core/accel/instance.h"
-#include "core/scene/scene_analysis.h"
-#include "core/shading/soft_shadow.h"
-#include "core/scene/texturing.h"
-#include "core/scene/scene_intersect.h"
 #include "core/scene/instance_texturing.h"
+#include "core/scene/scene_analysis.h"
+#include "core/scene/scene_intersect.h"
+#include "core/scene/texturing.h"
+#include "core/shading/soft_shadow.h"
 
 namespace frameless {
 

@@ -1,10 +1,10 @@
 // Parker et al. 1999 shading (section 3.1): material classes, Schlick, ambient, point/spherical
 // lights and Whitted recursion; pure functions called on render threads (any thread).
 #pragma once
-#include "core/scene/scene.h"
-#include "core/shading/optics.h"
 #include "core/geometry/surface.h"
 #include "core/scene/dynamic.h"
+#include "core/scene/scene.h"
+#include "core/shading/optics.h"
 
 namespace frameless {
 

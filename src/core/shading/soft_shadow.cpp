@@ -29,10 +29,10 @@
 
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
-#include "core/shading/optics.h"
 #include "core/geometry/surface.h"
-#include "core/scene/texturing.h"
 #include "core/scene/scene_intersect.h"
+#include "core/scene/texturing.h"
+#include "core/shading/optics.h"
 
 namespace frameless {
 

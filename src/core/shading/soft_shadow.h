@@ -3,8 +3,8 @@
 // reference, and shadow rays through dielectrics. Pure functions on a finalized scene, any thread.
 #pragma once
 #include "core/base/rng.h"
-#include "core/scene/scene.h"
 #include "core/scene/dynamic.h"
+#include "core/scene/scene.h"
 
 namespace frameless {
 

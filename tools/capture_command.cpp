@@ -10,8 +10,8 @@
 #include "display/capture.h"
 #include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
-#include "tools/tool_options.h"
 #include "tools/engine_flags.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {

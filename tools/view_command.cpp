@@ -6,8 +6,8 @@
 #include "display/glfw_viewer.h"
 #include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
-#include "tools/tool_options.h"
 #include "tools/engine_flags.h"
+#include "tools/tool_options.h"
 
 namespace frameless::cli {
 namespace {
