@@ -238,6 +238,38 @@ TEST(GltfWritten, TexturesFromADataUriWithSamplerTransformAndMask) {
   EXPECT_EQ(normal.uv_scale, Vec2(1.0f, 1.0f));
 }
 
+// Emission: emissiveFactor times KHR_materials_emissive_strength, with its texture (sRGB);
+// factors outside [0, 1] and negative or absurd strengths are one-line errors.
+TEST(GltfWritten, EmissionFactorStrengthAndTexture) {
+  Spec s;
+  s.material = R"({"emissiveFactor": [1, 0.5, 0.25], "emissiveTexture": {"index": 0},
+      "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}},
+      "pbrMetallicRoughness": {"metallicFactor": 0}})";
+  s.extra = R"("images": [{"uri": "data:image/png;base64,)" + kPng64 + R"("}],
+      "textures": [{"source": 0}],)";
+  auto r = parse(make_gltf(s));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Material& mat = r->mesh.materials.at(0);
+  expect_near(mat.emission, Vec3(8.0f, 4.0f, 2.0f));
+  ASSERT_LT(mat.emission_tex, r->mesh.textures.size());
+  EXPECT_TRUE(r->mesh.textures[mat.emission_tex].srgb);
+  Spec plain;  // no emissive members: no emission
+  auto p = parse(make_gltf(plain));
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  EXPECT_EQ(p->mesh.materials.at(0).emission, Vec3(0.0f));
+  for (const char* bad : {R"({"emissiveFactor": [1, -0.5, 0]})", R"({"emissiveFactor": [2, 0, 0]})",
+                          R"({"emissiveFactor": [1, 1, 1], "extensions":
+                              {"KHR_materials_emissive_strength": {"emissiveStrength": -1}}})"}) {
+    SCOPED_TRACE(bad);
+    Spec b;
+    b.material = bad;
+    auto e = parse(make_gltf(b));
+    ASSERT_FALSE(e.ok());
+    EXPECT_NE(e.error().message.find("emissive"), std::string::npos) << e.error().message;
+    EXPECT_EQ(e.error().message.find('\n'), std::string::npos) << e.error().message;
+  }
+}
+
 TEST(GltfWritten, ImageFilesResolveRelativeToTheModelWithPercentDecoding) {
   TempDir dir;
   std::string png;

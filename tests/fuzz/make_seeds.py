@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the scene_fuzzer seeds for the glTF (flat and instanced), GLB, MTL, PNG and textured-scene parsers into
+"""Writes the scene_fuzzer seeds for the glTF (flat, instanced, emissive), GLB, MTL (with and without
+emission), PNG, emissive-scene and textured-scene parsers into
 tests/fuzz/corpus/ (run from anywhere: python3 tests/fuzz/make_seeds.py). Each seed is one fuzzer
 input: the selector byte of scene_fuzzer.cpp, then the parser's bytes. Standard library only (no
 PIL): PNGs are written with zlib by hand.
@@ -23,7 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CORPUS = os.path.join(HERE, "corpus")
 
 # Selector bytes (scene_fuzzer.cpp).
-GLTF, GLB, MTL, IMAGE, SCENE_TEX = 3, 4, 5, 6, 7
+SCENE, GLTF, GLB, MTL, IMAGE, SCENE_TEX = 0, 3, 4, 5, 6, 7
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -89,7 +90,7 @@ def triangle_buffer():
     return b
 
 
-def gltf_text(instanced=False):
+def gltf_text(instanced=False, emissive=False):
     buf = triangle_buffer()
     tex_png = png_palette_trns_2x2()
     doc = {
@@ -141,6 +142,11 @@ def gltf_text(instanced=False):
         doc["nodes"][0]["children"] = [1, 2, 5, 6]
         doc["nodes"] += [{"translation": [3, 0, 0], "scale": [-1, 1, 1], "mesh": 0},
                          {"rotation": [0, 0.70710678, 0, 0.70710678], "mesh": 0}]
+    if emissive:  # emission: factor, strength extension and texture
+        doc["materials"][0].update({"emissiveFactor": [1, 0.5, 0.2],
+                                    "emissiveTexture": {"index": 0},
+                                    "extensions": {"KHR_materials_emissive_strength":
+                                                   {"emissiveStrength": 4}}})
     return json.dumps(doc, separators=(",", ":")).encode()
 
 
@@ -246,6 +252,16 @@ def main():
         "gltf_instanced": bytes([GLTF]) + gltf_text(instanced=True),
         "glb_strip_texture": bytes([GLB]) + glb(),
         "mtl_materials": bytes([MTL]) + MTL_TEXT,
+        "mtl_emission": bytes([MTL]) + b"newmtl lamp\nKd 0 0 0\nKe 2 1.5 1\nmap_Ke t.png\n",
+        "gltf_emission": bytes([GLTF]) + gltf_text(emissive=True),
+        "scene_emission": bytes([SCENE]) + json.dumps({
+            "ambient": {"type": "none"},
+            "materials": {"lamp": {"class": "diffuse", "kd": 0, "emission": [4, 3, 2]},
+                          "m": {"class": "polished", "kd": 0.5, "emission": 0.5}},
+            "objects": [{"type": "plane", "point": [0, 2, 0], "normal": [0, -1, 0], "size": 1,
+                         "material": "lamp"},
+                        {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}]},
+            separators=(",", ":")).encode(),
         # Image seeds: the second byte picks the magic the fuzzer puts back (0: PNG).
         "image_png_rgba": bytes([IMAGE, 0]) + png_rgba_4x4()[len(PNG_MAGIC):],
         "image_png_palette": bytes([IMAGE, 0]) + png_palette_trns_2x2()[len(PNG_MAGIC):],

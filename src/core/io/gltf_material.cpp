@@ -15,9 +15,11 @@
 // Alpha: MASK cuts out where base colour alpha (texture alpha times b.a) < alphaCutoff (0.5);
 // BLEND that is not a dielectric is treated as MASK with cutoff 0.5; OPAQUE ignores alpha.
 // normalTexture -> normal_tex (linear data; its scale is ignored). Colour textures are sRGB.
+// Emission, any class: emissiveFactor (in [0, 1]) times KHR_materials_emissive_strength's
+// emissiveStrength (in [0, 1e6]; 1 when absent), times emissiveTexture where one is named.
 // Samplers: wrapS and wrapT both CLAMP_TO_EDGE -> clamp, otherwise repeat (mirrored repeat too).
 // KHR_texture_transform offset and scale are applied (rotation is not: a warning); only
-// TEXCOORD_0 is read. Ignored: metallicRoughnessTexture, occlusion, emission.
+// TEXCOORD_0 is read. Ignored: metallicRoughnessTexture, occlusion.
 #include <algorithm>
 #include <cmath>
 
@@ -101,6 +103,24 @@ Result<Material> MaterialMap::convert(int index) {
   m.normal_tex = *normal_tex;
   if (pbr.baseColorTexture.texCoord != 0 || g.normalTexture.texCoord != 0)
     warn_once("textures on TEXCOORD_1 or higher use TEXCOORD_0");
+
+  // Emission, any class: emissiveFactor times KHR_materials_emissive_strength, emissiveTexture.
+  if (g.emissiveFactor.size() != 3) return fail(path_, where + ": emissiveFactor needs 3 numbers");
+  const double strength =
+      ext_number(g.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+  if (!std::isfinite(strength) || strength < 0.0 || strength > 1e6)
+    return fail(path_, where +
+                           ": KHR_materials_emissive_strength.emissiveStrength must be in [0, 1e6]");
+  for (int i = 0; i < 3; ++i) {
+    const double e = g.emissiveFactor[size_t(i)];
+    if (!std::isfinite(e) || e < 0.0 || e > 1.0)
+      return fail(path_, where + ": emissiveFactor must be in [0, 1]");
+    m.emission[i] = float(e * strength);
+  }
+  auto emission_tex = texture(g.emissiveTexture.index, g.emissiveTexture.extensions, true,
+                              where + ": emissiveTexture");
+  if (!emission_tex) return emission_tex.error();
+  m.emission_tex = *emission_tex;
 
   m.phong_exponent = phong_exponent(roughness);
   if (transmission > 0.0 || (blend && base.w < 0.5f)) {

@@ -18,11 +18,12 @@
 // All classes: phong_exponent = Ns clamped to [1, 10000]; map_Kd -> kd_tex (sRGB; diffuse and
 // polished only); map_d -> alpha_tex (linear; channel: the image's alpha when it has one, else
 // its first channel; -imfchan r/g/b/m picks one); bump, map_bump, map_Bump -> bump_tex (linear,
-// bump_scale = -bm); norm -> normal_tex (linear). Not dielectric: opacity = d (or 1 - Tr when d
+// bump_scale = -bm); norm -> normal_tex (linear); Ke -> emission (>= 0, an error otherwise),
+// map_Ke -> emission_tex (sRGB). Not dielectric: opacity = d (or 1 - Tr when d
 // is absent; Tr 1 alone is read as opaque, the inverted convention some exporters use).
 // Texture options: -s u v -> uv_scale, -o u v -> uv_offset, -clamp on -> clamp wrap; others
 // (-blendu, -boost, -mm, -t, -texres, -type, -colorspace, -cc) are read and ignored.
-// Ka, Ke, map_Ka, disp, decal, refl and PBR extensions are ignored.
+// Ka, map_Ka, disp, decal, refl and PBR extensions are ignored.
 // Files: mtllib relative to the OBJ's folder, textures relative to the MTL's folder; when the
 // exact path is missing each component is matched case-insensitively, then the bare file name
 // is tried in that folder (Windows absolute paths). Faces before any usemtl, or naming a material
@@ -61,11 +62,12 @@ struct MtlMap {
 struct MtlMaterial {
   std::string name;
   std::string mtl_path;
-  Vec3 kd{0.8f}, ks{0.0f}, tf{1.0f};
+  Vec3 kd{0.8f}, ks{0.0f}, tf{1.0f}, ke{0.0f};
   float ns = 0.0f, ni = 0.0f, d = 1.0f, tr = 0.0f;
   int illum = -1;
   bool has_kd = false, has_tf = false, has_ni = false, has_d = false, has_tr = false;
-  MtlMap map_kd, map_ks, map_d, bump, norm;
+  bool has_ke = false;
+  MtlMap map_kd, map_ks, map_d, bump, norm, map_ke;
 };
 
 std::string_view trim(std::string_view s) {
@@ -242,6 +244,11 @@ Result<std::vector<MtlMaterial>> parse_mtl(const std::string& text, const std::s
     if (key == "kd") err = read_color(line, m.kd, m.has_kd);
     else if (key == "ks") err = read_color(line, m.ks, dummy);
     else if (key == "tf") err = read_color(line, m.tf, m.has_tf);
+    else if (key == "ke") {
+      err = read_color(line, m.ke, m.has_ke);
+      if (!err && std::min({m.ke.x, m.ke.y, m.ke.z}) < 0.0f)
+        err = std::string("emission must be >= 0");
+    }
     else if (key == "ns") err = read_scalar(line, m.ns, dummy);
     else if (key == "ni") err = read_scalar(line, m.ni, m.has_ni);
     else if (key == "d") err = read_scalar(line, m.d, m.has_d);
@@ -256,6 +263,7 @@ Result<std::vector<MtlMaterial>> parse_mtl(const std::string& text, const std::s
     else if (key == "map_d") map = &m.map_d;
     else if (key == "bump" || key == "map_bump") map = &m.bump;
     else if (key == "norm") map = &m.norm;
+    else if (key == "map_ke") map = &m.map_ke;
     if (map) {
       *map = MtlMap{};
       map->line = line_no;
@@ -357,6 +365,9 @@ Result<Material> to_material(const MtlMaterial& m, MeshData& mesh, ImageCache& i
   if (auto e = slot(m.bump, false, out.bump_tex)) return *e;
   out.bump_scale = m.bump.bump;
   if (auto e = slot(m.norm, false, out.normal_tex)) return *e;
+  // Ke: emitted radiance, any class (1 under a map_Ke without Ke, as Kd under map_Kd).
+  out.emission = m.has_ke ? m.ke : m.map_ke.present ? Vec3(1.0f) : Vec3(0.0f);
+  if (auto e = slot(m.map_ke, true, out.emission_tex)) return *e;
   return out;
 }
 

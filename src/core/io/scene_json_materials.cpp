@@ -13,7 +13,8 @@ namespace {
 std::vector<const char*> with_texture_keys(std::initializer_list<const char*> own) {
   std::vector<const char*> keys(own);
   for (const char* k : {"kd_texture", "kh_texture", "ks_texture", "alpha_texture", "alpha_channel",
-                        "alpha_cutoff", "opacity", "normal_texture", "bump_texture", "bump_scale"})
+                        "alpha_cutoff", "opacity", "normal_texture", "bump_texture", "bump_scale",
+                        "emission", "emission_texture"})
     keys.push_back(k);
   return keys;
 }
@@ -47,6 +48,8 @@ void parse_texture_slots(const json& j, const std::string& f, const TextureNames
     m.normal_tex = texture_ref(j["normal_texture"], f + ".normal_texture", textures);
   if (j.contains("bump_texture"))
     m.bump_tex = texture_ref(j["bump_texture"], f + ".bump_texture", textures);
+  if (j.contains("emission_texture"))
+    m.emission_tex = texture_ref(j["emission_texture"], f + ".emission_texture", textures);
   if (j.contains("alpha_channel")) {
     const std::string c = get_string(j["alpha_channel"], f + ".alpha_channel");
     if (c == "alpha") m.alpha_channel = 3;
@@ -172,6 +175,10 @@ Material parse_material(const std::string& name, const json& j, const std::strin
   if (j.contains("r0")) {
     m.r0 = get_color(j["r0"], f + ".r0");
     if (m.r0.x > 1.0f || m.r0.y > 1.0f || m.r0.z > 1.0f) fail(f + ".r0", "must be in [0, 1]");
+  }
+  if (j.contains("emission")) {
+    m.emission = get_color(j["emission"], f + ".emission");
+    if (max_component(m.emission) > 1e6f) fail(f + ".emission", "must be at most 1e6");
   }
   if (m.cls == MaterialClass::kMetal) m.kh = m.ks;  // metal: k_h = k_s (section 3.1)
   parse_texture_slots(j, f, textures, scene, m);

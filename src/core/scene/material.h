@@ -15,7 +15,7 @@ enum class MaterialClass : uint8_t { kDiffuse, kMetal, kDielectric, kPolished };
 //  dielectric: ior (R0 for Schlick), extinction kappa, kh + phong_exponent (highlight)
 //  polished:   kd, r0 (Schlick R0 of the coat), kh + phong_exponent   (equation 2)
 // Texture slots (indices into Scene::textures, kNoTexture when constant) replace the constant
-// colours kd, kh and a metal's ks; alpha cuts the surface out where it falls below alpha_cutoff;
+// colours kd, kh, a metal's ks and the emission; alpha cuts the surface out where it falls below alpha_cutoff;
 // normal_tex (tangent space, glTF) or bump_tex (height, OBJ bump) perturb the shading normal.
 struct MaterialParams {
   MaterialClass cls = MaterialClass::kDiffuse;
@@ -26,6 +26,9 @@ struct MaterialParams {
   float ior = 1.5f;
   Vec3 extinction{0.0f};  // kappa per unit length inside a dielectric, per channel
   Vec3 r0{0.04f};         // polished: Schlick normal-incidence reflectance of the coat
+  // Radiance the surface emits (any class, both sides), added where a ray hits it: an area
+  // light seen directly and in reflections.
+  Vec3 emission{0.0f};
 
   uint32_t kd_tex = kNoTexture;      // multiplies kd
   uint32_t kh_tex = kNoTexture;      // multiplies kh
@@ -33,6 +36,7 @@ struct MaterialParams {
   uint32_t alpha_tex = kNoTexture;   // cut-out: channel alpha_channel times opacity
   uint32_t normal_tex = kNoTexture;  // tangent-space normal map
   uint32_t bump_tex = kNoTexture;    // height map (channel 0), scaled by bump_scale
+  uint32_t emission_tex = kNoTexture;  // multiplies emission
   uint8_t alpha_channel = 3;         // 3: the texture's alpha; 0: its first channel (map_d)
   float opacity = 1.0f;              // constant alpha (glTF baseColorFactor.a, MTL d)
   float alpha_cutoff = 0.5f;         // alpha below this: the surface is absent for every ray
@@ -40,7 +44,7 @@ struct MaterialParams {
 
   bool textured() const {
     return kd_tex != kNoTexture || kh_tex != kNoTexture || ks_tex != kNoTexture ||
-           normal_tex != kNoTexture || bump_tex != kNoTexture;
+           normal_tex != kNoTexture || bump_tex != kNoTexture || emission_tex != kNoTexture;
   }
   bool cutout() const { return alpha_tex != kNoTexture || opacity < alpha_cutoff; }
 };

@@ -57,6 +57,7 @@ struct SceneFeatures {
   bool has_cutouts = false;      // some material has an alpha cut-out: traversal tests alpha
   bool has_soft_lights = false;  // some light has an extent and shadows are soft or area
   bool has_dynamic = false;      // some object moves: rays also test Scene::dynamic
+  bool has_emission = false;     // some material emits: hits add its emission
 };
 
 struct Scene {

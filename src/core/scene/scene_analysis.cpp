@@ -23,6 +23,7 @@ SceneFeatures analyse_scene(const Scene& scene) {
   for (const Material& m : scene.materials) {
     f.has_textures |= m.textured();
     f.has_cutouts |= m.cutout();
+    f.has_emission |= max_component(m.emission) > 0.0f;
   }
   const bool extended = scene.settings.shadows != ShadowMode::kHard;
   for (const Light& l : scene.lights) f.has_soft_lights |= extended && l.has_extent();

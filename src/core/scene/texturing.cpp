@@ -103,6 +103,7 @@ void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const
   at.p = sp.p;
   const std::vector<Texture>& tex = scene.textures;
   if (m.kd_tex != kNoTexture) m.kd *= Vec3(sample_texture(tex[m.kd_tex], at));
+  if (m.emission_tex != kNoTexture) m.emission *= Vec3(sample_texture(tex[m.emission_tex], at));
   if (m.kh_tex != kNoTexture) m.kh *= Vec3(sample_texture(tex[m.kh_tex], at));
   if (m.ks_tex != kNoTexture) m.ks *= Vec3(sample_texture(tex[m.ks_tex], at));
   if (m.normal_tex == kNoTexture && m.bump_tex == kNoTexture) return;

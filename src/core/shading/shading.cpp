@@ -282,6 +282,11 @@ Vec3 shade_material(const ShadeContext& c, const Ray& ray, const MaterialParams&
   return Vec3(0.0f);
 }
 
+// Adds what the surface emits; scenes without emitters skip even the add (and keep their bits).
+inline Vec3 emitted(const ShadeContext& c, const MaterialParams& m, const Vec3& reflected) {
+  return c.scene.features.has_emission ? reflected + m.emission : reflected;
+}
+
 template <uint32_t F>
 Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
                         const SurfacePoint& sp, int depth, const Vec3& weight,
@@ -289,14 +294,15 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
   const MaterialParams& base = frame_material(c.scene, c.frame, sp.material);
   // Untextured materials are shaded in place: no texture coordinate is ever computed for them.
   // Dynamic objects have no texture coordinates either (their frame moves per sample).
-  if (!base.textured() || is_dynamic_prim(hit.prim)) return shade_material<F>(c, ray, base, sp, depth, weight, medium);
+  if (!base.textured() || is_dynamic_prim(hit.prim))
+    return emitted(c, base, shade_material<F>(c, ray, base, sp, depth, weight, medium));
   MaterialParams m = base;
   SurfacePoint tsp = sp;
   if (hit.inst != kInvalidId)
     apply_instance_textures(c.scene, *c.scene.accel.top_in_use(frame_instances(c.frame)), ray, hit, m, tsp);
   else
     apply_textures(c.scene, ray, hit, m, tsp);
-  return shade_material<F>(c, ray, m, tsp, depth, weight, medium);
+  return emitted(c, m, shade_material<F>(c, ray, m, tsp, depth, weight, medium));
 }
 
 template <uint32_t F>
