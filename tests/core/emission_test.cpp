@@ -62,6 +62,20 @@ TEST(Emission, MirrorShowsTheEmitter) {
   EXPECT_NEAR(c.x, 2.0f, 1e-5f);
 }
 
+TEST(Emission, AnEmissionTextureAloneGivesTheRadiance) {
+  auto s = parse_scene_json(R"({
+      "textures":{"c":{"type":"checker","color_a":[3,2,1],"color_b":[3,2,1]}},
+      "materials":{"e":{"class":"diffuse","kd":0,"emission_texture":"c"}},
+      "ambient":{"type":"none"},
+      "objects":[{"type":"plane","point":[0,0,0],"normal":[0,0,1],"size":1,"material":"e"}]})",
+                            "t.json", ".");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ((*s)->materials.at(0).emission, Vec3(1.0f));
+  const Vec3 c = radiance(**s, Vec3(0.1f, 0.1f, 3), Vec3(0, 0, -1));
+  EXPECT_NEAR(c.x, 3.0f, 1e-5f);
+  EXPECT_NEAR(c.z, 1.0f, 1e-5f);
+}
+
 TEST(Emission, ScenesWithoutEmittersSkipIt) {
   auto s = parse(R"("e":{"class":"diffuse","kd":0.5})");
   ASSERT_TRUE(s.ok()) << s.error().message;

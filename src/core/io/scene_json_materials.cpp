@@ -179,6 +179,8 @@ Material parse_material(const std::string& name, const json& j, const std::strin
   if (j.contains("emission")) {
     m.emission = get_color(j["emission"], f + ".emission");
     if (max_component(m.emission) > 1e6f) fail(f + ".emission", "must be at most 1e6");
+  } else if (j.contains("emission_texture")) {
+    m.emission = Vec3(1.0f);  // the texture alone gives the emitted radiance
   }
   if (m.cls == MaterialClass::kMetal) m.kh = m.ks;  // metal: k_h = k_s (section 3.1)
   parse_texture_slots(j, f, textures, scene, m);

@@ -15,7 +15,8 @@ enum class MaterialClass : uint8_t { kDiffuse, kMetal, kDielectric, kPolished };
 //  dielectric: ior (R0 for Schlick), extinction kappa, kh + phong_exponent (highlight)
 //  polished:   kd, r0 (Schlick R0 of the coat), kh + phong_exponent   (equation 2)
 // Texture slots (indices into Scene::textures, kNoTexture when constant) replace the constant
-// colours kd, kh, a metal's ks and the emission; alpha cuts the surface out where it falls below alpha_cutoff;
+// colours kd, kh, a metal's ks and the emission; alpha cuts the surface out where it falls
+// below alpha_cutoff;
 // normal_tex (tangent space, glTF) or bump_tex (height, OBJ bump) perturb the shading normal.
 struct MaterialParams {
   MaterialClass cls = MaterialClass::kDiffuse;
