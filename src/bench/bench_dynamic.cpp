@@ -21,7 +21,7 @@ namespace {
 // Adds n bouncing balls spread over the scene's floor area (seeded: the same balls every run).
 void add_bouncing_balls(Scene& s, int n) {
   Vec3 lo, hi;
-  scene_bounds(s.geometry, lo, hi);
+  geometry_bounds(s.geometry, lo, hi);
   const float size = max_component(hi - lo), r = 0.03f * size;
   Material m;
   m.name = "bench-ball";

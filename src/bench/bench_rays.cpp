@@ -123,7 +123,7 @@ int run_rays(const RaysOptions& a) {
   for (const Light& l : scene->lights) lights.push_back(l.position);
   if (lights.empty()) {
     Vec3 lo, hi;
-    scene_bounds(geom, lo, hi);
+    geometry_bounds(geom, lo, hi);
     lights.push_back(0.5f * (lo + hi) + Vec3(0.0f, 2.0f * (hi.y - lo.y) + 1.0f, 0.0f));
   }
   std::vector<Ray> shadow;

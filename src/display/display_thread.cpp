@@ -267,7 +267,7 @@ DisplayConfig DisplayThread::config() const {
 
 const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   Impl& d = *impl_;
-  const bool fresh = d.middle.load(std::memory_order_acquire) & kNew;
+  const bool fresh = d.middle.load(std::memory_order_acquire) & Impl::kNew;
   if (fresh) {
     const uint32_t old = d.middle.exchange(d.front, std::memory_order_acq_rel);
     d.front = old & 3u;

@@ -19,17 +19,13 @@
 #include "frameless/cpu_clock.h"
 
 namespace frameless {
-namespace display_detail {
-
-inline constexpr uint32_t kNew = 4;
-inline constexpr uint32_t kEpochRing = 4096;  // epochs tracked for coverage (older ones are never newest)
-inline constexpr size_t kIntervalsKept = 1024;
-
-}  // namespace display_detail
-
-using namespace display_detail;
 
 struct DisplayThread::Impl {
+  static constexpr uint32_t kNew = 4;  // marks an unconsumed image in `middle`
+  // Epochs tracked for coverage (older ones are never newest).
+  static constexpr uint32_t kEpochRing = 4096;
+  static constexpr size_t kIntervalsKept = 1024;
+
   Impl(Engine& e, const DisplayConfig& c) : engine(e), config(c) {}
 
   Engine& engine;
@@ -100,7 +96,6 @@ struct DisplayThread::Impl {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   }
 
-
   // Moves one pixel's epoch from `from` to `to` in the coverage counts.
   void count_epoch(uint32_t from, uint32_t to) {
     if (from == to) return;
@@ -135,8 +130,6 @@ struct DisplayThread::Impl {
   void thread_main();
 };
 
-namespace display_detail {
-
 // Blends one tick's collected updates into the back buffer, slot run by slot run (display thread).
 struct TickSink final : UpdateSink {
   TickSink(DisplayThread::Impl& display, const DisplayConfig& config)
@@ -170,5 +163,4 @@ struct TickSink final : UpdateSink {
   }
 };
 
-}  // namespace display_detail
 }  // namespace frameless

@@ -2,7 +2,6 @@
 #include "display/slot_image.h"
 
 namespace frameless {
-namespace display_detail {
 
 LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order) {
   if (!order) return nullptr;
@@ -54,5 +53,4 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.layout = std::move(layout);
 }
 
-}  // namespace display_detail
 }  // namespace frameless

@@ -11,7 +11,6 @@
 #include "display/reproject.h"
 
 namespace frameless {
-namespace display_detail {
 
 constexpr uint64_t kHistory = 8;       // ticks of change lists kept (buffers and consumers catch up from them)
 
@@ -21,7 +20,6 @@ struct SlotLayout {
   std::vector<uint32_t> slot_of;                          // pixel -> slot
 };
 using LayoutPtr = std::shared_ptr<const SlotLayout>;  // null: slot s is pixel s
-
 
 // A run of consecutive slots changed in one tick.
 struct SlotRun {
@@ -86,8 +84,6 @@ inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, siz
   dst.levels[i] = p.levels;
 }
 
-
-
 // `by_slot` (one entry per slot of `from`) with each pixel's entry moved to its slot under `to`
 // (a layout change, same size; null layouts: slot s is pixel s).
 template <typename T>
@@ -114,5 +110,4 @@ void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced);
 // dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).
 void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout);
 
-}  // namespace display_detail
 }  // namespace frameless

@@ -4,7 +4,6 @@
 #include "display/display_thread_impl.h"
 
 namespace frameless {
-namespace display_detail {
 
 void TickSink::begin(const CollectResult& r) {
   conventional = r.mode == RenderMode::conventional;
@@ -136,5 +135,4 @@ void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
   full = true;
 }
 
-}  // namespace display_detail
 }  // namespace frameless

@@ -73,7 +73,7 @@ TEST(SceneJson, PlaneFacesItsNormalAndHasItsSize) {
     EXPECT_GT(n.z, 0.0f);
   }
   Vec3 lo, hi;
-  scene_bounds(g, lo, hi);
+  geometry_bounds(g, lo, hi);
   EXPECT_NEAR(hi.x - lo.x, 4.0f, 1e-5f);
   EXPECT_NEAR(hi.y - lo.y, 4.0f, 1e-5f);
   EXPECT_NEAR(lo.y, -1.0f, 1e-5f);

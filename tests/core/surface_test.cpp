@@ -143,7 +143,7 @@ SelfHitCounts count_self_hits(float scale, Vec3 translate, bool sphere, uint64_t
   scene.materials.push_back(Material{});
   finalize_scene(scene);
   Vec3 lo, hi;
-  scene_bounds(scene.geometry, lo, hi);
+  geometry_bounds(scene.geometry, lo, hi);
   const Vec3 center = 0.5f * (lo + hi);
   Rng rng(seed);
   SelfHitCounts c;

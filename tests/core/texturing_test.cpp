@@ -276,7 +276,7 @@ TEST(Texturing, JsonSceneReferencesAGltfModelWithTransformAndOverride) {
   EXPECT_NE(a.materials[1].kd_tex, kNoTexture);
   for (uint16_t m : a.geometry.triangle_material) EXPECT_EQ(m, 1);
   Vec3 lo, hi;
-  scene_bounds(a.geometry, lo, hi);
+  geometry_bounds(a.geometry, lo, hi);
   EXPECT_NEAR(0.5f * (lo.x + hi.x), 10.0f, 1e-4f);
   auto over = scene(R"(, "material": "red")");
   ASSERT_TRUE(over.ok()) << over.error().message;

@@ -7,7 +7,7 @@
 
 #include "core/accel/accel_impl.h"
 #include "core/base/rng.h"
-#include "core/geometry/geometry.h"  // scene_bounds
+#include "core/geometry/geometry.h"  // geometry_bounds
 
 namespace frameless {
 namespace {
@@ -24,7 +24,7 @@ constexpr double kPrimCost = 1.0;
 std::vector<Ray> box_rays(const Geometry& g, int n) {
   Vec3 lo, hi;
   std::vector<Ray> rays;
-  if (!scene_bounds(g, lo, hi) || !is_finite(lo) || !is_finite(hi)) return rays;
+  if (!geometry_bounds(g, lo, hi) || !is_finite(lo) || !is_finite(hi)) return rays;
   Rng rng(0xacce1);
   auto point = [&] { return lo + (hi - lo) * Vec3(rng.next_float(), rng.next_float(), rng.next_float()); };
   for (int i = 0; i < n; ++i) {

@@ -32,7 +32,7 @@ bool make_instance(uint32_t mesh, const Affine& to_world, Instance& out) {
 }
 
 void build_instanced_mesh(InstancedMesh& mesh, const AccelConfig& config) {
-  scene_bounds(mesh.geometry, mesh.lo, mesh.hi);
+  geometry_bounds(mesh.geometry, mesh.lo, mesh.hi);
   mesh.accel.build(mesh.geometry, config);
 }
 

@@ -77,6 +77,6 @@ struct Geometry {
 };
 
 // Bounding box of all geometry (for framing cameras); returns false when empty.
-bool scene_bounds(const Geometry& geom, Vec3& lo, Vec3& hi);
+bool geometry_bounds(const Geometry& geom, Vec3& lo, Vec3& hi);
 
 }  // namespace frameless

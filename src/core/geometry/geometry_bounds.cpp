@@ -3,7 +3,7 @@
 
 namespace frameless {
 
-bool scene_bounds(const Geometry& g, Vec3& lo, Vec3& hi) {
+bool geometry_bounds(const Geometry& g, Vec3& lo, Vec3& hi) {
   lo = Vec3(kInfinity);
   hi = Vec3(-kInfinity);
   for (const UVec3& t : g.triangles)

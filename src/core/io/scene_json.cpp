@@ -377,7 +377,7 @@ void parse_scene(const json& root, Context& ctx) {
   for (size_t i = 0; i < objs.size(); ++i) parse_object(objs[i], "objects[" + std::to_string(i) + "]", ctx);
   finish_physics(root.contains("physics") ? &root["physics"] : nullptr, s, ctx.physics);
   Vec3 lo, hi;
-  scene_bounds(s.geometry, lo, hi);
+  geometry_bounds(s.geometry, lo, hi);
   for (const Instance& inst : s.geometry.instances) {  // and on instances
     Vec3 ilo, ihi;
     instance_bounds(inst, *s.geometry.instance_meshes[inst.mesh], ilo, ihi);

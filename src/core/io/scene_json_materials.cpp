@@ -9,8 +9,8 @@
 namespace frameless::scene_json {
 namespace {
 
-// Keys every material class accepts besides its own: texture slots and cut-out settings.
-std::vector<const char*> with_texture_keys(std::initializer_list<const char*> own) {
+// Keys every material class accepts besides its own: texture slots, cut-out settings, emission.
+std::vector<const char*> with_shared_keys(std::initializer_list<const char*> own) {
   std::vector<const char*> keys(own);
   for (const char* k : {"kd_texture", "kh_texture", "ks_texture", "alpha_texture", "alpha_channel",
                         "alpha_cutoff", "opacity", "normal_texture", "bump_texture", "bump_scale",
@@ -147,20 +147,20 @@ Material parse_material(const std::string& name, const json& j, const std::strin
   m.name = name;
   if (cls == "diffuse") {
     m.cls = MaterialClass::kDiffuse;
-    check_keys(j, f, with_texture_keys({"class", "kd"}));
+    check_keys(j, f, with_shared_keys({"class", "kd"}));
   } else if (cls == "metal") {
     m.cls = MaterialClass::kMetal;
-    check_keys(j, f, with_texture_keys({"class", "ks", "phong_exponent"}));
+    check_keys(j, f, with_shared_keys({"class", "ks", "phong_exponent"}));
     m.kd = Vec3(0.0f);
     m.ks = Vec3(0.9f);
   } else if (cls == "dielectric") {
     m.cls = MaterialClass::kDielectric;
-    check_keys(j, f, with_texture_keys({"class", "ior", "extinction", "kh", "phong_exponent"}));
+    check_keys(j, f, with_shared_keys({"class", "ior", "extinction", "kh", "phong_exponent"}));
     m.kd = Vec3(0.0f);
     m.kh = Vec3(1.0f);
   } else if (cls == "polished") {
     m.cls = MaterialClass::kPolished;
-    check_keys(j, f, with_texture_keys({"class", "kd", "r0", "kh", "phong_exponent"}));
+    check_keys(j, f, with_shared_keys({"class", "kd", "r0", "kh", "phong_exponent"}));
     m.kh = Vec3(1.0f);
   } else {
     fail(f + ".class", "unknown class '" + cls + "' (diffuse, metal, dielectric or polished)");

@@ -144,7 +144,7 @@ Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
     g.sphere_material.push_back(mats[rng.next_u32() & 7u]);
   }
   Vec3 lo, hi;
-  scene_bounds(g, lo, hi);
+  geometry_bounds(g, lo, hi);
   s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
   const float extent = glm::length(hi - lo);
   s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
@@ -166,7 +166,7 @@ Result<std::unique_ptr<Scene>> make_bunny() {
   auto s = make_mesh_scene(std::move(*mesh), "bunny");
   s->materials[0] = polished("bunny", Vec3(0.78f, 0.74f, 0.66f), 0.04f);
   Vec3 lo, hi;
-  scene_bounds(s->geometry, lo, hi);
+  geometry_bounds(s->geometry, lo, hi);
   const uint16_t floor = add_material(*s, diffuse("floor", Vec3(0.6f, 0.62f, 0.66f)));
   add_quad(*s, Vec3(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z)), Vec3(0, 1, 0),
            8.0f * glm::length(hi - lo), floor);

@@ -37,7 +37,7 @@ Result<std::unique_ptr<Scene>> load_sphere_scene(const std::string& path, const 
     add_material(*s, m);
   }
   Vec3 lo, hi;
-  if (!scene_bounds(s->geometry, lo, hi)) return Error{path + ": no spheres"};
+  if (!geometry_bounds(s->geometry, lo, hi)) return Error{path + ": no spheres"};
   s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
   const float extent = glm::length(hi - lo);
   s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});

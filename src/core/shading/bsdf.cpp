@@ -16,11 +16,6 @@ inline bool above(const Vec3& w) { return w.z > 0.0f; }
 
 inline Vec3 mirror(const Vec3& wo) { return Vec3(-wo.x, -wo.y, wo.z); }
 
-inline float pow5(float x) {
-  const float x2 = x * x;
-  return x2 * x2 * x;
-}
-
 // Directions around `axis` at angle acos(cos_t) and azimuth phi.
 Vec3 around(const Vec3& axis, float cos_t, float phi) {
   const ShadingFrame f = make_shading_frame(axis);
@@ -51,23 +46,6 @@ float ggx_g1(float alpha, float cos_v) {
 inline float clamp_alpha(float alpha) { return std::clamp(alpha, 1e-3f, 1.0f); }
 
 }  // namespace
-
-ShadingFrame make_shading_frame(const Vec3& n) {
-  ShadingFrame f;
-  const float sign = std::copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float b = n.x * n.y * a;
-  f.t = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  f.b = Vec3(b, sign + n.y * n.y * a, -n.y);
-  f.n = n;
-  return f;
-}
-
-Vec3 ShadingFrame::to_local(const Vec3& v) const {
-  return Vec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n));
-}
-
-Vec3 ShadingFrame::to_world(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
 
 Vec3 sample_cosine_hemisphere(float u1, float u2) {
   const float r = std::sqrt(u1);

@@ -4,6 +4,7 @@
 // surface); any thread.
 #pragma once
 #include "core/base/types.h"
+#include "core/geometry/shading_frame.h"  // the local frame
 
 namespace frameless {
 
@@ -14,14 +15,6 @@ struct BsdfSample {
   Vec3 weight{0.0f};
   float pdf = 0.0f;
 };
-
-// The local frame around unit normal n (Duff et al. 2017): to_local(v) = (v.t, v.b, v.n).
-struct ShadingFrame {
-  Vec3 t{1.0f, 0.0f, 0.0f}, b{0.0f, 1.0f, 0.0f}, n{0.0f, 0.0f, 1.0f};
-  Vec3 to_local(const Vec3& v) const;
-  Vec3 to_world(const Vec3& v) const;
-};
-ShadingFrame make_shading_frame(const Vec3& n);
 
 // Cosine-weighted hemisphere direction from (u1, u2) in [0, 1)^2 (Malley's method).
 Vec3 sample_cosine_hemisphere(float u1, float u2);

@@ -7,14 +7,6 @@
 #include <cmath>
 
 namespace frameless {
-namespace {
-
-inline float pow5(float x) {
-  const float x2 = x * x;
-  return x2 * x2 * x;
-}
-
-}  // namespace
 
 float schlick(float cos_theta, float r0) {
   const float c = std::clamp(cos_theta, 0.0f, 1.0f);

@@ -5,6 +5,12 @@
 
 namespace frameless {
 
+// x^5 in three products (Schlick's factor, Parker's polished view factor).
+inline float pow5(float x) {
+  const float x2 = x * x;
+  return x2 * x2 * x;
+}
+
 // Schlick's approximation k_s = R0 + (1 - R0)(1 - cos)^5, cos clamped to [0, 1].
 float schlick(float cos_theta, float r0);
 Vec3 schlick(float cos_theta, const Vec3& r0);

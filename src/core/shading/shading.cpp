@@ -31,12 +31,6 @@ namespace frameless {
 
 namespace {
 
-inline float pow5(float x) {
-  const float x2 = x * x;
-  return x2 * x2 * x;
-}
-
-
 // Blinn-Phong lobe (h.n)^N, zero when h points below the surface.
 inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {
   const Vec3 h = glm::normalize(e + l);

@@ -29,6 +29,7 @@
 
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
+#include "core/geometry/shading_frame.h"
 #include "core/geometry/surface.h"
 #include "core/scene/scene_intersect.h"
 #include "core/scene/texturing.h"
@@ -44,15 +45,6 @@ float edge_visibility(float x) {
 }
 
 namespace {
-
-// Orthonormal basis around a unit vector (Duff et al. 2017), branch-free.
-void basis(const Vec3& n, Vec3& b1, Vec3& b2) {
-  const float sign = std::copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float b = n.x * n.y * a;
-  b1 = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  b2 = Vec3(b, sign + n.y * n.y * a, -n.y);
-}
 
 inline float det3(const Vec3& a, const Vec3& b, const Vec3& c) {
   return glm::dot(a, glm::cross(b, c));
@@ -84,7 +76,9 @@ class SoftQuery final : public Accel::ConeVisitor {
  public:
   SoftQuery(const Scene& scene, const ShadowQuery& q, const DynamicFrame* frame)
       : scene_(scene), g_(scene.geometry), q_(q), frame_(frame) {
-    basis(q.dir, b1_, b2_);
+    const ShadingFrame f = make_shading_frame(q.dir);
+    b1_ = f.t;
+    b2_ = f.b;
     Ray r;
     r.org = q.org;
     r.dir = q.dir;
@@ -434,8 +428,8 @@ float soft_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFra
 Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng,
                      const DynamicFrame* frame) {
   samples = std::max(1, samples);
-  Vec3 b1, b2;
-  basis(q.dir, b1, b2);
+  const ShadingFrame axes = make_shading_frame(q.dir);
+  const Vec3 b1 = axes.t, b2 = axes.b;
   const float cos_max = std::cos(q.half_angle);
   // Stratified over the cone's solid angle in cos(theta) and, through a fixed co-prime
   // permutation of the strata, in azimuth (a Latin hypercube: unbiased for any count).
