@@ -20,6 +20,9 @@ void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
   app.add_option("--accel", shadows.accel,
                  "acceleration structure: bvh (default), grid (Parker's hybrid grid) or auto "
                  "(whichever does less work on a trial of the scene's rays)");
+  app.add_option("--integrator", shadows.integrator,
+                 "light transport: whitted (Parker's model) or path (unbiased path tracing); "
+                 "default: path for scenes with emitters, whitted otherwise, or the scene's own");
 }
 
 }  // namespace frameless::cli

@@ -21,7 +21,7 @@ using bench::valid_threads;
 // --eye/--look/--up x,y,z and --fov DEG into `camera`.
 void add_camera_flags(CLI::App& app, CameraOptions& camera);
 
-// --shadows, --shadow-samples, --transparent-shadows and --accel into `shadows`.
+// --shadows, --shadow-samples, --transparent-shadows, --accel and --integrator into `shadows`.
 void add_shadow_flags(CLI::App& app, ShadowOptions& shadows);
 
 }  // namespace frameless::cli

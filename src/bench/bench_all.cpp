@@ -69,6 +69,7 @@ int run_all(const AllOptions& a) {
       {"latency", with({"bench", "latency"}, true, false)},
       {"scaling", with({"bench", "scaling"}, true, false)},
       {"scale", with({"bench", "scale", "--max-n", max_n}, false, false)},
+      {"gi", with({"bench", "gi"}, false, true)},  // its own scene: the Cornell box
   };
   nlohmann::json summary =
       bench_header("all", nullptr, a.scene, {{"quick", a.quick}, {"max_n", a.max_n}});
@@ -95,6 +96,9 @@ int run_all(const AllOptions& a) {
     if (e.contains("adaptive_time_to_error_speedup"))
       summary["adaptive_time_to_error_speedup"] = e["adaptive_time_to_error_speedup"];
   }
+  const nlohmann::json g = read_json(a.out + "/gi.json");
+  if (g.is_object() && g.contains("frameless"))
+    summary["gi_rmse_vs_cycles"] = g["frameless"].value("at_cycles_times", nlohmann::json());
   const nlohmann::json l = read_json(a.out + "/latency.json");
   if (l.is_object()) summary["latency"] = l.value("results", nlohmann::json());
   const nlohmann::json s = read_json(a.out + "/scaling.json");

@@ -44,6 +44,10 @@ bool ShadowOptions::apply(Scene& scene, std::string& error) const {
     }
     n = *samples;
   }
+  if (!integrator.empty() && !parse_integrator(integrator, scene.settings.integrator)) {
+    error = "--integrator: expected whitted or path, got '" + integrator + "'";
+    return false;
+  }
   set_shadow_settings(scene, m, n, transparent || scene.settings.transparent_shadows);
   if (!accel.empty()) {
     AccelKind kind;

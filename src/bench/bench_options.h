@@ -27,6 +27,7 @@ struct ShadowOptions {
   std::optional<int> samples;
   bool transparent = false;
   std::string accel;  // --accel bvh|grid|auto (empty: the scene's setting)
+  std::string integrator;  // --integrator whitted|path (empty: the scene's setting)
   // Applies the options to a loaded scene; false with a one-line message when invalid.
   bool apply(Scene& scene, std::string& error) const;
 };

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/base/rng.h"
+#include "core/base/sobol.h"
 #include "core/scene/dynamic.h"
 #include "frameless/engine_impl.h"
 #include "frameless/pixel_levels.h"
@@ -36,7 +37,14 @@ inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes
   for (int j = 0; j < spu; ++j) {
     const uint64_t seed = sample_seed(x, y, passes * uint32_t(spu) + uint32_t(j), e.sample_seed_base);
     float px = float(x) + 0.5f, py = float(y) + 0.5f;
-    if (e.cfg.jitter) {
+    if (e.cfg.jitter && e.scene.settings.integrator == Integrator::kPath) {
+      // Light that bounces converges over many updates: the pixel's Owen-scrambled Sobol' points
+      // keep its jitter stratified at every power of two of its sample count.
+      float ux, uy;
+      owen_sobol_2d(passes * uint32_t(spu) + uint32_t(j), mix64(uint64_t(idx) ^ e.sample_seed_base), ux, uy);
+      px = float(x) + ux;
+      py = float(y) + uy;
+    } else if (e.cfg.jitter) {
       Rng rng(seed);
       const int s = kStrata[passes & 1u][j];
       px = float(x) + 0.5f * (float(s & 1) + rng.next_float());

@@ -76,6 +76,8 @@ TEST_P(RenderBadInput, OneLineErrorNonZeroExitNoOutput) {
   const auto dir = fresh_dir(std::string("render_bad_") + GetParam().name);
   const auto out = dir / "out.exr";
   std::string args = GetParam().args;
+  if (const size_t at = args.find("--out DIR"); at != std::string::npos)  // a directory that must stay empty
+    args.replace(at, 9, "--out " + (dir / "bench").string());
   if (args.find("--out") == std::string::npos) args += " --out " + out.string();
   const CommandResult r = run_frameless(args);
   EXPECT_NE(r.exit_code, 0) << r.output;
@@ -96,7 +98,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"unknown_builtin", "render nosuchscene", "nosuchscene"},
         BadCase{"camera", "render default --eye 0,0,0 --look 0,0,0", "camera"},
         BadCase{"fov", "render default --fov 180", "camera"},
-        BadCase{"unwritable", "render default --out /proc/frameless_no/out.exr", "/proc"}),
+        BadCase{"unwritable", "render default --out /proc/frameless_no/out.exr", "/proc"},
+        BadCase{"integrator", "render cornell --integrator radiosity", "--integrator"},
+        BadCase{"gi_spp", "bench gi --no-cycles --spp 0 --out DIR", "--spp"},
+        BadCase{"gi_ref_spp", "bench gi --no-cycles --ref-spp 1 --out DIR", "--ref-spp"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace

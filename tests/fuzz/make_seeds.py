@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the scene_fuzzer seeds for the glTF (flat, instanced, emissive), GLB, MTL (with and without
-emission), PNG, emissive-scene and textured-scene parsers into
+emission), PNG, emissive-scene, path-traced-scene and textured-scene parsers into
 tests/fuzz/corpus/ (run from anywhere: python3 tests/fuzz/make_seeds.py). Each seed is one fuzzer
 input: the selector byte of scene_fuzzer.cpp, then the parser's bytes. Standard library only (no
 PIL): PNGs are written with zlib by hand.
@@ -262,6 +262,12 @@ def main():
                          "material": "lamp"},
                         {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}]},
             separators=(",", ":")).encode(),
+        "scene_path": bytes([SCENE]) + json.dumps({
+            "settings": {"integrator": "path", "background": [0.2, 0.3, 0.4], "max_depth": 8},
+            "materials": {"lamp": {"class": "diffuse", "kd": 0.8, "emission": [4, 3, 2]}},
+            "lights": [{"type": "spherical", "position": [0, 3, 0], "radius": 0.5}],
+            "objects": [{"type": "plane", "point": [0, 2, 0], "normal": [0, -1, 0], "size": 1,
+                         "material": "lamp"}]}, separators=(",", ":")).encode(),
         # Image seeds: the second byte picks the magic the fuzzer puts back (0: PNG).
         "image_png_rgba": bytes([IMAGE, 0]) + png_rgba_4x4()[len(PNG_MAGIC):],
         "image_png_palette": bytes([IMAGE, 0]) + png_palette_trns_2x2()[len(PNG_MAGIC):],

@@ -82,7 +82,11 @@ void parse_camera(const json& j, Scene& s) {
 void parse_settings(const json& j, RenderSettings& r) {
   require_object(j, "settings");
   check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background",
-                             "seed", "shadows", "shadow_samples", "transparent_shadows", "accel"});
+                             "seed", "shadows", "shadow_samples", "transparent_shadows", "accel",
+                             "integrator"});
+  if (j.contains("integrator") &&
+      !parse_integrator(get_string(j["integrator"], "settings.integrator"), r.integrator))
+    fail("settings.integrator", "unknown integrator '" + j["integrator"].get<std::string>() + "' (whitted or path)");
   if (j.contains("accel") && !parse_accel_kind(get_string(j["accel"], "settings.accel"), r.accel))
     fail("settings.accel", "unknown structure '" + j["accel"].get<std::string>() + "' (bvh, grid or auto)");
   if (j.contains("shadows")) {

@@ -22,4 +22,20 @@ const char* shadow_mode_name(ShadowMode m) {
   return "unknown";
 }
 
+const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::kAuto: return "auto";
+    case Integrator::kWhitted: return "whitted";
+    case Integrator::kPath: return "path";
+  }
+  return "unknown";
+}
+
+bool parse_integrator(const std::string& name, Integrator& out) {
+  if (name == "whitted") out = Integrator::kWhitted;
+  else if (name == "path") out = Integrator::kPath;
+  else return false;
+  return true;
+}
+
 }  // namespace frameless

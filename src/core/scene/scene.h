@@ -8,6 +8,7 @@
 #include "core/geometry/geometry.h"
 #include "core/scene/camera.h"
 #include "core/scene/dynamic_object.h"
+#include "core/scene/emitters.h"
 #include "core/scene/light.h"
 #include "core/scene/material.h"
 
@@ -23,6 +24,14 @@ struct SkipConfig {
   bool prune = true;       // prune ray-tree branches below min_contribution (off: only weight 0)
   bool any_hit = true;     // shadow rays stop at the first occluder (off: closest-hit traversal)
 };
+
+// How a sample's light is computed (docs/global-illumination.md): Parker's Whitted-style model,
+// or unbiased path tracing. kAuto becomes path for scenes with emitters, Whitted otherwise
+// (finalize_scene decides).
+enum class Integrator : uint8_t { kAuto, kWhitted, kPath };
+const char* integrator_name(Integrator i);
+// "whitted" or "path" into out; false for anything else.
+bool parse_integrator(const std::string& name, Integrator& out);
 
 struct RenderSettings {
   int width = 640;
@@ -40,6 +49,7 @@ struct RenderSettings {
   int shadow_samples = 16;
   bool transparent_shadows = false;
   AccelKind accel = AccelKind::kBvh;  // acceleration structure (bvh, grid, auto: core/accel/accel.h)
+  Integrator integrator = Integrator::kAuto;
 };
 
 // What the scene needs, found at finalize time so the per-sample path skips the rest.
@@ -67,6 +77,7 @@ struct Scene {
   std::vector<Texture> textures;    // material texture slots index this
   std::vector<uint8_t> cutout_materials;  // per material: has an alpha cut-out (accel reads it)
   std::vector<Light> lights;
+  EmitterTable emitters;  // emissive triangles as area lights (finalize_scene builds it)
   Ambient ambient;
   Camera camera;
   RenderSettings settings;

@@ -23,12 +23,17 @@ void build_accel(Scene& scene, const AccelConfig& base) {
       if (l.kind == LightKind::kPoint) config.trial_lights.push_back(l.position);
   }
   scene.accel.build(scene.geometry, config);
+  // The path tracer's area lights, in the triangle order the build left (none without emitters).
+  scene.emitters = scene.features.has_emission ? build_emitter_table(scene) : EmitterTable{};
 }
 
 }  // namespace
 
 void finalize_scene(Scene& scene, const AccelConfig& config) {
   scene.features = analyse_scene(scene);
+  // Light that bounces by default only where something emits (the scene's own choice wins).
+  if (scene.settings.integrator == Integrator::kAuto)
+    scene.settings.integrator = scene.features.has_emission ? Integrator::kPath : Integrator::kWhitted;
   // Edge adjacency only where soft shadows will read it (skip what a scene doesn't need); it is
   // built before the accel so the build permutes it with the triangles.
   if (scene.features.has_soft_lights && scene.geometry.num_triangles() > 0) {

@@ -1,4 +1,4 @@
-// Built-in scenes: "default", "balls", "spheres:N[:SEED]", "bunny".
+// Built-in scenes: "default", "cornell", "balls", "spheres:N[:SEED]", "bunny".
 #include "core/scenes/builtin_scenes.h"
 
 #include <charconv>
@@ -180,6 +180,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   if (name == "default") scene = make_default();
   else if (name == "balls") scene = make_balls();
   else if (name == "bunny") scene = make_bunny();
+  else if (name == "cornell") scene = make_cornell();
   else if (name == "showcase") return make_showcase();  // a JSON scene: already finalized
   else if (name == "teapot") return make_teapot();
   else if (name == "room") return make_room();
@@ -199,7 +200,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
     return make_sunflowers(*n, true);
   } else
     return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
-                        "scene (default, showcase, balls, teapot, room, sunflowers[:N], "
+                        "scene (default, cornell, showcase, balls, teapot, room, sunflowers[:N], "
                         "sunflowers-flat:N, spheres:N[:SEED], bunny)"};
   if (!scene) return scene;
   finalize_scene(**scene);
@@ -209,6 +210,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
 const char* builtin_scene_help() {
   return "Built-in scenes:\n"
          "  default            all four material classes in an open room, hemisphere ambient\n"
+         "  cornell            the Cornell box: its published geometry and ceiling light, path traced\n"
          "  showcase           soft shadows, image and solid textures, a cut-out, a glTF model\n"
          "  balls              Parker's bouncing balls: physics, soft shadows, moving while you look\n"
          "  teapot             the Utah teapot's 32 Bezier patches, ray traced directly\n"

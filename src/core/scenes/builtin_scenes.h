@@ -15,6 +15,10 @@ namespace frameless {
 // physics simulation (core/scene/motion.h), soft shadows from a spherical light. Not yet finalized.
 std::unique_ptr<Scene> make_balls();
 
+// The Cornell box (builtin_cornell.cpp): published geometry, diffuse walls, an emissive ceiling
+// light, no Parker lights; rendered by the path tracer by default. Not yet finalized.
+std::unique_ptr<Scene> make_cornell();
+
 // Materials of the built-in scenes, one per class (Parker's models, core/scene/material.h).
 Material diffuse(const char* name, Vec3 kd);
 Material metal(const char* name, Vec3 ks, float phong);

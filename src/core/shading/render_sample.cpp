@@ -1,11 +1,13 @@
-// The pure per-sample function: camera ray, Whitted shading, NaN/Inf guard.
+// The pure per-sample function: camera ray, Whitted shading or a path, NaN/Inf guard.
 #include "core/shading/render_sample.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/base/rng.h"
+#include "core/base/sobol.h"
 #include "core/scene/scene_analysis.h"
+#include "core/shading/path_tracer.h"
 #include "core/shading/shading.h"
 
 namespace frameless {
@@ -17,10 +19,14 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   Hit hit;
   SurfacePoint sp;
   int levels = 0;
-  // The shading path is chosen once per sample from the scene's features and skips.
-  out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
-                                  Vec3(1.0f), nullptr, &hit, &sp, rng_seed, frame, known_hit,
-                                  &levels);
+  if (scene.settings.integrator == Integrator::kPath) {
+    out.color = trace_path(scene, ray, rng_seed, frame, known_hit, &hit, &sp, &levels);
+  } else {
+    // The shading path is chosen once per sample from the scene's features and skips.
+    out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
+                                    Vec3(1.0f), nullptr, &hit, &sp, rng_seed, frame, known_hit,
+                                    &levels);
+  }
   out.levels = uint8_t(std::min(levels, 255));
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
@@ -64,7 +70,10 @@ SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x,
                            uint32_t sample_index, bool jitter, const DynamicFrame* frame) {
   const uint64_t seed = sample_seed(uint32_t(x), uint32_t(y), sample_index, scene.settings.seed);
   float jx = 0.5f, jy = 0.5f;
-  if (jitter) {
+  if (jitter && scene.settings.integrator == Integrator::kPath) {
+    // Stratified at every power of two of the pixel's samples (Owen-scrambled Sobol').
+    owen_sobol_2d(sample_index, sample_seed(uint32_t(x), uint32_t(y), 0, scene.settings.seed ^ 0x50b01ull), jx, jy);
+  } else if (jitter) {
     Rng rng(seed);
     jx = rng.next_float();
     jy = rng.next_float();

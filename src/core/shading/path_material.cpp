@@ -1,0 +1,144 @@
+// The physical readings of Parker's classes (path_material.h), on top of the scattering
+// functions of bsdf.h and the optics of optics.h.
+#include "core/shading/path_material.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/shading/bsdf.h"
+#include "core/shading/optics.h"
+
+namespace frameless {
+namespace {
+
+inline float mean3(const Vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
+
+// Mirror of -wo about the shading normal; the geometric normal's when the shading normal would
+// send it below the surface (as the Whitted integrator does).
+Vec3 mirror_world(const PathSurface& s) {
+  const Vec3 d = -s.wo_world;
+  const Vec3 n = s.frame.n;
+  Vec3 r = d - 2.0f * glm::dot(d, n) * n;
+  if (glm::dot(r, s.ng) <= 0.0f) r = d - 2.0f * glm::dot(d, s.ng) * s.ng;
+  return glm::normalize(r);
+}
+
+inline float cos_out(const PathSurface& s) { return std::clamp(s.wo.z, 0.0f, 1.0f); }
+
+// Probability that polished picks its coat's mirror: the coat's mean Schlick reflectance.
+inline float coat_probability(const PathSurface& s) {
+  return std::clamp(mean3(schlick(cos_out(s), s.m.r0)), 0.0f, 1.0f);
+}
+
+}  // namespace
+
+PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world) {
+  PathSurface s;
+  s.m = m;
+  s.frame = make_shading_frame(sp.ns);
+  s.wo_world = wo_world;
+  s.wo = s.frame.to_local(wo_world);
+  s.ng = sp.ng;
+  s.front_face = sp.front_face;
+  return s;
+}
+
+bool path_is_smooth(const PathSurface& s) {
+  return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished;
+}
+
+bool path_has_light_lobes(const PathSurface& s) {
+  return s.m.cls == MaterialClass::kMetal ? max_component(s.m.ks) > 0.0f
+         : s.m.cls == MaterialClass::kDiffuse ? false
+                                              : max_component(s.m.kh) > 0.0f;
+}
+
+Vec3 path_eval(const PathSurface& s, const Vec3& wi) {
+  if (glm::dot(wi, s.ng) <= 0.0f) return Vec3(0.0f);
+  const Vec3 l = s.frame.to_local(wi);
+  switch (s.m.cls) {
+    case MaterialClass::kDiffuse:
+      return lambert_eval(s.m.kd, s.wo, l);
+    case MaterialClass::kPolished:
+      return coupled_diffuse_eval(s.m.kd, mean3(s.m.r0), s.wo, l);
+    default:
+      return Vec3(0.0f);
+  }
+}
+
+Vec3 path_eval_light_lobes(const PathSurface& s, const Vec3& wi) {
+  if (s.m.cls == MaterialClass::kDiffuse || glm::dot(wi, s.ng) <= 0.0f) return Vec3(0.0f);
+  const Vec3 l = s.frame.to_local(wi);
+  const Vec3 k = s.m.cls == MaterialClass::kMetal ? s.m.ks : s.m.kh;
+  return phong_eval(k, s.m.phong_exponent, s.wo, l);
+}
+
+float path_pdf(const PathSurface& s, const Vec3& wi) {
+  if (glm::dot(wi, s.ng) <= 0.0f) return 0.0f;
+  const Vec3 l = s.frame.to_local(wi);
+  switch (s.m.cls) {
+    case MaterialClass::kDiffuse:
+      return lambert_pdf(s.wo, l);
+    case MaterialClass::kPolished:
+      return (1.0f - coat_probability(s)) * lambert_pdf(s.wo, l);
+    default:
+      return 0.0f;
+  }
+}
+
+bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter& out) {
+  out = PathScatter{};
+  switch (s.m.cls) {
+    case MaterialClass::kDiffuse: {
+      const BsdfSample b = lambert_sample(s.m.kd, s.wo, u1, u2);
+      out.wi = s.frame.to_world(b.wi);
+      out.weight = b.weight;
+      out.pdf = b.pdf;
+      break;
+    }
+    case MaterialClass::kMetal:
+      out.wi = mirror_world(s);
+      out.weight = s.m.ks;
+      out.delta = true;
+      break;
+    case MaterialClass::kDielectric: {
+      const float cos_i = cos_out(s);
+      // Entering through the outward side goes from air (1) into the material (ior).
+      const float eta = s.front_face ? 1.0f / s.m.ior : s.m.ior;
+      const FresnelTerms f = dielectric_fresnel(cos_i, eta, r0_from_ior(s.m.ior));
+      out.delta = true;
+      // Reflect with probability k_s, refract with k_t = 1 - k_s: the weight is then 1.
+      if (f.total_internal_reflection || u0 < f.ks) {
+        out.wi = mirror_world(s);
+        out.weight = Vec3(1.0f);
+      } else {
+        const Vec3 n = s.frame.n;
+        out.wi = glm::normalize(eta * -s.wo_world + (eta * cos_i - f.cos_t) * n);
+        out.weight = Vec3(1.0f);
+        out.transmitted = true;
+        return glm::dot(out.wi, s.ng) < 0.0f;
+      }
+      break;
+    }
+    case MaterialClass::kPolished: {
+      const float p = coat_probability(s);
+      if (u0 < p) {
+        out.wi = mirror_world(s);
+        out.weight = schlick(cos_out(s), s.m.r0) / p;
+        out.delta = true;
+      } else {
+        const Vec3 l = sample_cosine_hemisphere(u1, u2);
+        out.wi = s.frame.to_world(l);
+        out.pdf = (1.0f - p) * lambert_pdf(s.wo, l);
+        if (out.pdf > 0.0f)
+          out.weight = coupled_diffuse_eval(s.m.kd, mean3(s.m.r0), s.wo, l) * (l.z / out.pdf);
+      }
+      break;
+    }
+  }
+  // Reflections must leave on the viewer's side of the geometric surface.
+  if (glm::dot(out.wi, s.ng) <= 0.0f) return false;
+  return max_component(out.weight) > 0.0f && is_finite(out.weight);
+}
+
+}  // namespace frameless

@@ -1,0 +1,29 @@
+// Unbiased progressive path tracing (issue 26; docs/global-illumination.md): one path per call,
+// next-event estimation with multiple importance sampling (power heuristic) for every light
+// kind, Russian roulette after three bounces. Pure, any thread.
+#pragma once
+#include "core/geometry/surface.h"
+#include "core/scene/dynamic.h"
+#include "core/scene/scene.h"
+
+namespace frameless {
+
+// How light sources are found: both strategies weighted by MIS (the renderer), or one alone
+// (the tests check that all three have the same mean).
+enum class LightStrategy : uint8_t { kMis, kLightOnly, kBsdfOnly };
+
+struct PathOptions {
+  LightStrategy strategy = LightStrategy::kMis;
+  int max_bounces = -1;  // scattering events; -1: settings.max_depth. 1 gives direct light only
+};
+
+// Radiance along `ray` (unit direction) by one path with random numbers from `seed`. frame:
+// what moves at the sample's instant (null: the scene as loaded). known_hit (optional): the
+// static scene's closest hit of `ray`. first_hit/first_point (optional) receive the primary
+// hit; bounces (optional) the number of scattering events the path took.
+Vec3 trace_path(const Scene& scene, const Ray& ray, uint64_t seed, const DynamicFrame* frame = nullptr,
+                const Hit* known_hit = nullptr, Hit* first_hit = nullptr,
+                SurfacePoint* first_point = nullptr, int* bounces = nullptr,
+                const PathOptions& options = {});
+
+}  // namespace frameless
