@@ -10,7 +10,7 @@ namespace {
 
 const bool registered = register_command(
     "bench", "gi",
-    "Light that bounces: path tracing's error vs wall time, beside Blender's Cycles when installed",
+    "Light that bounces: path tracing's and igi's error vs wall time, beside Blender's Cycles when installed",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::GiOptions>();
       app.add_option("scene", args->scene, "Scene (default cornell; Cycles needs plain diffuse triangles)");

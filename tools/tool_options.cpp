@@ -21,7 +21,8 @@ void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
                  "acceleration structure: bvh (default), grid (Parker's hybrid grid) or auto "
                  "(whichever does less work on a trial of the scene's rays)");
   app.add_option("--integrator", shadows.integrator,
-                 "light transport: whitted (Parker's model) or path (unbiased path tracing); "
+                 "light transport: whitted (Parker's model), path (unbiased path tracing) or igi "
+                 "(instant global illumination); "
                  "default: path for scenes with emitters, whitted otherwise, or the scene's own");
 }
 

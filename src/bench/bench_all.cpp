@@ -98,7 +98,8 @@ int run_all(const AllOptions& a) {
   }
   const nlohmann::json g = read_json(a.out + "/gi.json");
   if (g.is_object() && g.contains("frameless"))
-    summary["gi_rmse_vs_cycles"] = g["frameless"].value("at_cycles_times", nlohmann::json());
+    for (const auto& [name, v] : g["frameless"].items())
+      summary["gi_rmse_vs_cycles"][name] = v.value("at_cycles_times", nlohmann::json());
   const nlohmann::json l = read_json(a.out + "/latency.json");
   if (l.is_object()) summary["latency"] = l.value("results", nlohmann::json());
   const nlohmann::json s = read_json(a.out + "/scaling.json");

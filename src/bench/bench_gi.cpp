@@ -160,7 +160,8 @@ int run_gi(const GiOptions& options) {
     }
     j["cycles"] = cj;
 
-    // Frameless: the live engine and display for as long as Cycles took at its largest count.
+    // Frameless, path then igi: the live engine and display for as long as Cycles took at its
+    // largest count, read at Cycles' times; one-shot renders at Cycles' sample counts.
     const double run_s = !cycles_t.empty() ? std::max(1.0, cycles_t.back() * 1.15)
                                            : (a.seconds > 0 ? a.seconds : 10.0);
     LiveSchedule sched;
@@ -168,74 +169,85 @@ int run_gi(const GiOptions& options) {
     sched.references = {&ref->rgb};
     sched.noise_mse = {ref->noise_mse};
     sched.duration = run_s;
-    LiveMode fl;
-    fl.name = fl.kind = "frameless";
-    fl.engine.width = width;
-    fl.engine.height = height;
-    fl.engine.threads = threads;
-    bench_progress("gi", "frameless path for " + csv_number(run_s) + " s");
-    const LiveResult live = run_live(*scene, fl, sched);
-    nlohmann::json fj;
-    fj["samples_per_s"] = live.samples_per_s;
-    fj["ticks"] = live.ticks.size();
-    fj["dropped_samples"] = live.dropped;
-    std::string dat = "# frameless path: t rmse_debiased spp\n";
-    for (const TickRecord& t : live.ticks)
-      if (t.samples > 0)
-        dat += csv_number(t.t) + " " + csv_number(t.rmse_debiased) + " " +
-               csv_number(double(t.samples) / double(pixels)) + "\n";
-    dat += "\n\n# Cycles: t rmse_debiased spp\n";
-    nlohmann::json cmp = nlohmann::json::array();
-    for (size_t k = 0; k < cycles_t.size(); ++k) {
-      dat += csv_number(cycles_t[k]) + " " + csv_number(cycles_rmse[k]) + " " + std::to_string(a.spp[k]) + "\n";
-      const TickRecord* t = tick_at(live.ticks, cycles_t[k]);
-      nlohmann::json c = {{"cycles_spp", a.spp[k]}, {"seconds", cycles_t[k]}, {"cycles_rmse", cycles_rmse[k]}};
-      if (t) {
-        c["frameless_rmse"] = t->rmse_debiased;
-        c["frameless_spp"] = double(t->samples) / double(pixels);
-        c["ratio"] = cycles_rmse[k] > 0 ? t->rmse_debiased / cycles_rmse[k] : 0.0;
+    ShadowOptions igi_options = a.shadows;
+    igi_options.integrator = "igi";
+    std::unique_ptr<Scene> igi_scene = load_scene_or_report(a.scene, &igi_options);
+    if (!igi_scene) return 2;
+    igi_scene->settings.width = width;
+    igi_scene->settings.height = height;
+    const std::pair<const char*, const Scene*> runs[] = {{"path", scene.get()}, {"igi", igi_scene.get()}};
+    std::string dat;
+    for (const auto& [name, sc] : runs) {
+      LiveMode fl;
+      fl.name = fl.kind = name;
+      fl.engine.width = width;
+      fl.engine.height = height;
+      fl.engine.threads = threads;
+      bench_progress("gi", std::string("frameless ") + name + " for " + csv_number(run_s) + " s");
+      const LiveResult live = run_live(*sc, fl, sched);
+      nlohmann::json fj;
+      fj["samples_per_s"] = live.samples_per_s;
+      fj["ticks"] = live.ticks.size();
+      fj["dropped_samples"] = live.dropped;
+      dat += std::string("# frameless ") + name + ": t rmse_debiased spp\n";
+      for (const TickRecord& t : live.ticks)
+        if (t.samples > 0)
+          dat += csv_number(t.t) + " " + csv_number(t.rmse_debiased) + " " +
+                 csv_number(double(t.samples) / double(pixels)) + "\n";
+      dat += "\n\n";
+      nlohmann::json cmp = nlohmann::json::array();
+      for (size_t k = 0; k < cycles_t.size(); ++k) {
+        const TickRecord* t = tick_at(live.ticks, cycles_t[k]);
+        nlohmann::json c = {{"cycles_spp", a.spp[k]}, {"seconds", cycles_t[k]}, {"cycles_rmse", cycles_rmse[k]}};
+        if (t) {
+          c["frameless_rmse"] = t->rmse_debiased;
+          c["frameless_spp"] = double(t->samples) / double(pixels);
+          c["ratio"] = cycles_rmse[k] > 0 ? t->rmse_debiased / cycles_rmse[k] : 0.0;
+        }
+        cmp.push_back(c);
       }
-      cmp.push_back(c);
+      fj["at_cycles_times"] = cmp;
+      nlohmann::json at = nlohmann::json::object();  // at fixed times, for runs without Cycles
+      for (double tt : {0.25, 1.0, 4.0})
+        if (const TickRecord* t = tick_at(live.ticks, tt); t && tt <= run_s) at[csv_number(tt)] = t->rmse_debiased;
+      fj["rmse_at_seconds"] = at;
+      if (!live.ticks.empty()) {
+        const TickRecord& last = live.ticks.back();
+        fj["final"] = {{"t_s", last.t}, {"rmse_debiased", last.rmse_debiased},
+                       {"samples_per_pixel", double(last.samples) / double(pixels)}};
+      }
+      nlohmann::json shots = nlohmann::json::array();
+      for (int n : a.spp) {
+        TileRenderOptions o;
+        o.spp = n;
+        o.threads = threads;
+        o.first_sample = 2u * uint32_t(a.ref_spp);  // indices the reference never used, net-aligned
+        const RenderedImage img = render_tiles(*sc, make_camera_basis(sc->camera, width, height), o);
+        const double m = std::max(0.0, mse(img.rgb, ref->rgb) - ref->noise_mse);
+        shots.push_back({{"spp", n}, {"seconds", img.seconds}, {"rmse_debiased", std::sqrt(m)}});
+      }
+      fj["one_shot"] = shots;
+      j["frameless"][name] = fj;
     }
-    fj["at_cycles_times"] = cmp;
-    if (!live.ticks.empty()) {
-      const TickRecord& last = live.ticks.back();
-      fj["final"] = {{"t_s", last.t}, {"rmse_debiased", last.rmse_debiased},
-                     {"samples_per_pixel", double(last.samples) / double(pixels)}};
-    }
-    // One-shot renders at Cycles' sample counts (tiles, no display): per-sample error and speed.
-    nlohmann::json shots = nlohmann::json::array();
-    for (int n : a.spp) {
-      TileRenderOptions o;
-      o.spp = n;
-      o.threads = threads;
-      o.first_sample = 2u * uint32_t(a.ref_spp);  // indices the reference never used, net-aligned
-      const RenderedImage img = render_tiles(*scene, make_camera_basis(scene->camera, width, height), o);
-      const double m = std::max(0.0, mse(img.rgb, ref->rgb) - ref->noise_mse);
-      shots.push_back({{"spp", n}, {"seconds", img.seconds}, {"rmse_debiased", std::sqrt(m)}});
-    }
-    fj["one_shot"] = shots;
-    j["frameless"] = fj;
+    dat += "# Cycles: t rmse_debiased spp\n";
+    for (size_t k = 0; k < cycles_t.size(); ++k)
+      dat += csv_number(cycles_t[k]) + " " + csv_number(cycles_rmse[k]) + " " + std::to_string(a.spp[k]) + "\n";
     if (!write_text_atomic(a.out + "/gi.dat", dat, error)) return report_error(error);
     std::string body = "set logscale xy\nset grid\nset key top right\nset format y '%g'\nset format x '%g'\n";
     body += "set title 'Cornell box: RMSE against the converged reference vs wall time (" +
             std::to_string(threads) + " threads)'\n";
     body += "set xlabel 'seconds'\nset ylabel 'RMSE (reference noise removed)'\n";
     body += "plot '" + a.out + "/gi.dat' index 0 using 1:2 with lines lw 2 title 'frameless path'";
+    body += ", '" + a.out + "/gi.dat' index 1 using 1:2 with lines lw 2 title 'frameless igi'";
     if (!cycles_t.empty())
-      body += ", '" + a.out + "/gi.dat' index 1 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
+      body += ", '" + a.out + "/gi.dat' index 2 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
               gnuplot_text(cj.value("version", "")) + "'";
     bool png = false;
     if (!plot_png(a.out, "gi", 800, 500, body, error, &png)) return report_error(error);
     j["outputs"] = {{"plot", png ? "gi.png" : ""}, {"data", "gi.dat"}};
     if (!write_json(a.out + "/gi.json", j, error)) return report_error(error);
 
-    std::printf("bench gi: %s %dx%d, %d threads, integrator %s\n", a.scene.c_str(), width, height,
-                threads, integrator_name(scene->settings.integrator));
-    std::printf("  frameless: %.3g M samples/s\n", live.samples_per_s / 1e6);
-    for (const auto& sh : shots)
-      std::printf("  frameless render %4d spp: %7.3f s, RMSE %.4f\n", sh["spp"].get<int>(),
-                  sh["seconds"].get<double>(), sh["rmse_debiased"].get<double>());
+    std::printf("bench gi: %s %dx%d, %d threads\n", a.scene.c_str(), width, height, threads);
     if (cj.contains("skipped")) {
       std::printf("  Cycles: skipped (%s)\n", cj["skipped"].get<std::string>().c_str());
     } else {
@@ -244,10 +256,18 @@ int run_gi(const GiOptions& options) {
                   cj["version"].get<std::string>().c_str(),
                   100 * ag["worst_channel_mean_difference"].get<double>(),
                   100 * ag["box4_rmse_over_mean"].get<double>());
-      for (const auto& c : cmp)
-        std::printf("  at Cycles' %4d spp time %7.3f s: Cycles RMSE %.4f, frameless %.4f (%.2fx)\n",
+    }
+    for (const auto& [name, fj] : j["frameless"].items()) {
+      std::printf("  frameless %s: %.3g M samples/s\n", name.c_str(), fj["samples_per_s"].get<double>() / 1e6);
+      for (const auto& sh : fj["one_shot"])
+        std::printf("    render %4d spp: %7.3f s, RMSE %.4f\n", sh["spp"].get<int>(),
+                    sh["seconds"].get<double>(), sh["rmse_debiased"].get<double>());
+      for (const auto& c : fj["at_cycles_times"])
+        std::printf("    at Cycles' %4d spp time %7.3f s: Cycles RMSE %.4f, frameless %.4f (%.2fx)\n",
                     c["cycles_spp"].get<int>(), c["seconds"].get<double>(), c["cycles_rmse"].get<double>(),
                     c.value("frameless_rmse", 0.0), c.value("ratio", 0.0));
+      for (const auto& [t, r] : fj["rmse_at_seconds"].items())
+        std::printf("    display RMSE at %s s: %.4f\n", t.c_str(), r.get<double>());
     }
     std::printf("  wrote %s/gi.json\n", a.out.c_str());
   } catch (const std::exception& ex) {

@@ -45,7 +45,7 @@ bool ShadowOptions::apply(Scene& scene, std::string& error) const {
     n = *samples;
   }
   if (!integrator.empty() && !parse_integrator(integrator, scene.settings.integrator)) {
-    error = "--integrator: expected whitted or path, got '" + integrator + "'";
+    error = "--integrator: expected whitted, path or igi, got '" + integrator + "'";
     return false;
   }
   set_shadow_settings(scene, m, n, transparent || scene.settings.transparent_shadows);

@@ -110,6 +110,7 @@ std::string find_blender() {
 std::string cycles_unsupported(const Scene& s) {
   if (!s.lights.empty()) return "Parker's lights have no Cycles counterpart";
   if (s.ambient.kind != AmbientKind::kNone) return "the ambient term has no Cycles counterpart";
+  if (s.environment) return "environment maps are not exported";
   if (s.geometry.num_spheres() + s.geometry.num_patches() > 0 || !s.geometry.instances.empty() ||
       !s.dynamic.empty())
     return "only plain triangles are exported";

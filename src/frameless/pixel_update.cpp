@@ -23,7 +23,7 @@ void trace_batch(Engine::Impl& e, PacketBatch& b, const CameraBasis& basis, Dyna
     for (int j = 0; j < spu; ++j)
       b.r[k][j] = custom.fn ? custom.fn(custom.context, basis, u[k].px[j], u[k].py[j], u[k].seed[j])
                             : trace_sample(e.scene, basis, u[k].px[j], u[k].py[j], u[k].seed[j],
-                                           world, packets ? &hits[k * spu + j] : nullptr);
+                                           world, packets ? &hits[k * spu + j] : nullptr, u[k].index[j]);
   }
 }
 

@@ -28,6 +28,7 @@ inline constexpr int kStrata[2][2] = {{0, 3}, {1, 2}};
 struct UpdateSamples {
   float px[2], py[2];
   uint64_t seed[2];
+  uint32_t index[2];  // the samples' indices among the pixel's samples
 };
 
 inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes, UpdateSamples& u) {
@@ -37,7 +38,7 @@ inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes
   for (int j = 0; j < spu; ++j) {
     const uint64_t seed = sample_seed(x, y, passes * uint32_t(spu) + uint32_t(j), e.sample_seed_base);
     float px = float(x) + 0.5f, py = float(y) + 0.5f;
-    if (e.cfg.jitter && e.scene.settings.integrator == Integrator::kPath) {
+    if (e.cfg.jitter && e.scene.settings.integrator >= Integrator::kPath) {
       // Light that bounces converges over many updates: the pixel's Owen-scrambled Sobol' points
       // keep its jitter stratified at every power of two of its sample count.
       float ux, uy;
@@ -52,6 +53,7 @@ inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes
     }
     u.px[j] = px, u.py[j] = py;
     u.seed[j] = mix64(seed ^ kSeedSalt);
+    u.index[j] = passes * uint32_t(spu) + uint32_t(j);
   }
 }
 

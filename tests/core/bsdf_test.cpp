@@ -131,7 +131,7 @@ TEST(Bsdf, CoupledModelCoatAndBaseSumToOne) {
   // schlick(cos theta_o, r0) and the base, with 21 / (20 pi), the rest.
   for (float r0 : {0.04f, 0.5f}) {
     auto f = [&](const Vec3& o, const Vec3& i) {
-      return coupled_diffuse_eval(Vec3(1.0f), r0, o, i);
+      return coupled_diffuse_eval(Vec3(1.0f), Vec3(r0), o, i);
     };
     EXPECT_NEAR(albedo(f, dir_at(0)), 1.0 - r0, 2e-3);
     for (float th : {0.0f, 30.0f, 60.0f, 80.0f, 89.0f}) {

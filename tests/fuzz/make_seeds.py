@@ -263,7 +263,9 @@ def main():
                         {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}]},
             separators=(",", ":")).encode(),
         "scene_path": bytes([SCENE]) + json.dumps({
-            "settings": {"integrator": "path", "background": [0.2, 0.3, 0.4], "max_depth": 8},
+            "settings": {"integrator": "igi", "background": [0.2, 0.3, 0.4], "max_depth": 8,
+                         "igi": {"paths": 8, "interleave": 2, "clamp": 0.05},
+                         "environment": {"file": "sky.exr", "rotate": 30, "scale": 2}},
             "materials": {"lamp": {"class": "diffuse", "kd": 0.8, "emission": [4, 3, 2]}},
             "lights": [{"type": "spherical", "position": [0, 3, 0], "radius": 0.5}],
             "objects": [{"type": "plane", "point": [0, 2, 0], "normal": [0, -1, 0], "size": 1,

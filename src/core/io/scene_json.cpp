@@ -11,6 +11,7 @@
 #include "core/io/file_util.h"
 #include "core/io/mesh_readers.h"
 #include "core/io/scene_json.h"
+#include "core/io/scene_json_environment.h"
 #include "core/io/scene_json_materials.h"
 #include "core/io/scene_json_motion.h"
 #include "core/io/scene_json_patches.h"
@@ -83,10 +84,17 @@ void parse_settings(const json& j, RenderSettings& r) {
   require_object(j, "settings");
   check_keys(j, "settings", {"width", "height", "spp", "max_depth", "min_contribution", "background",
                              "seed", "shadows", "shadow_samples", "transparent_shadows", "accel",
-                             "integrator"});
+                             "integrator", "environment", "igi"});
+  if (j.contains("igi")) {
+    const json& g = require_object(j["igi"], "settings.igi");
+    check_keys(g, "settings.igi", {"paths", "interleave", "clamp"});
+    if (g.contains("paths")) r.igi.paths = int(get_int(g["paths"], "settings.igi.paths", 1, 4096));
+    if (g.contains("interleave")) r.igi.interleave = int(get_int(g["interleave"], "settings.igi.interleave", 1, 8));
+    if (g.contains("clamp")) r.igi.clamp = get_float(g["clamp"], "settings.igi.clamp", 0.0, 1.0, "in [0, 1]");
+  }
   if (j.contains("integrator") &&
       !parse_integrator(get_string(j["integrator"], "settings.integrator"), r.integrator))
-    fail("settings.integrator", "unknown integrator '" + j["integrator"].get<std::string>() + "' (whitted or path)");
+    fail("settings.integrator", "unknown integrator '" + j["integrator"].get<std::string>() + "' (whitted, path or igi)");
   if (j.contains("accel") && !parse_accel_kind(get_string(j["accel"], "settings.accel"), r.accel))
     fail("settings.accel", "unknown structure '" + j["accel"].get<std::string>() + "' (bvh, grid or auto)");
   if (j.contains("shadows")) {
@@ -359,7 +367,11 @@ void parse_scene(const json& root, Context& ctx) {
   require_object(root, "(top level)");
   check_keys(root, "", {"camera", "settings", "ambient", "lights", "textures", "materials", "objects",
                         "physics", "meshes"});
-  if (root.contains("settings")) parse_settings(root["settings"], s.settings);
+  if (root.contains("settings")) {
+    parse_settings(root["settings"], s.settings);
+    if (root["settings"].contains("environment"))
+      parse_environment(root["settings"]["environment"], s, ctx.base_dir, ctx.images);
+  }
   s.ambient = default_hemisphere_ambient();
   if (root.contains("ambient")) parse_ambient(root["ambient"], s.ambient);
   if (root.contains("lights")) parse_lights(root["lights"], s);

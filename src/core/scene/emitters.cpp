@@ -13,6 +13,11 @@ uint32_t EmitterTable::pick(float u) const {
   return uint32_t(std::min<size_t>(size_t(it - cdf.begin()), cdf.size() - 1));
 }
 
+float EmitterTable::pmf(uint32_t i) const {
+  const double lo = i == 0 ? 0.0 : std::ceil(double(cdf[i - 1]) * 0x1.0p24);
+  return float((std::ceil(double(cdf[i]) * 0x1.0p24) - lo) * 0x1.0p-24);
+}
+
 uint32_t EmitterTable::find(uint32_t prim) const {
   const auto it = std::lower_bound(prims.begin(), prims.end(), prim);
   return it != prims.end() && *it == prim ? uint32_t(it - prims.begin()) : kInvalidId;

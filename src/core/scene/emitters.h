@@ -21,8 +21,9 @@ struct EmitterTable {
   bool empty() const { return prims.empty(); }
   // Index of the triangle a uniform number u in [0, 1) picks.
   uint32_t pick(float u) const;
-  // Probability that pick chooses index i.
-  float pmf(uint32_t i) const { return i == 0 ? cdf[0] : cdf[i] - cdf[i - 1]; }
+  // Probability that pick chooses index i when u is a multiple of 2^-24 (Rng::next_float):
+  // the grid points in [cdf[i-1], cdf[i]); 0 for an entry too thin to hold one.
+  float pmf(uint32_t i) const;
   // Index of triangle `prim` in the table, or kInvalidId when it is not an emitter.
   uint32_t find(uint32_t prim) const;
 };

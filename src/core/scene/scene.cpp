@@ -27,6 +27,7 @@ const char* integrator_name(Integrator i) {
     case Integrator::kAuto: return "auto";
     case Integrator::kWhitted: return "whitted";
     case Integrator::kPath: return "path";
+    case Integrator::kIgi: return "igi";
   }
   return "unknown";
 }
@@ -34,6 +35,7 @@ const char* integrator_name(Integrator i) {
 bool parse_integrator(const std::string& name, Integrator& out) {
   if (name == "whitted") out = Integrator::kWhitted;
   else if (name == "path") out = Integrator::kPath;
+  else if (name == "igi") out = Integrator::kIgi;
   else return false;
   return true;
 }

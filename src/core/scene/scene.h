@@ -9,6 +9,7 @@
 #include "core/scene/camera.h"
 #include "core/scene/dynamic_object.h"
 #include "core/scene/emitters.h"
+#include "core/scene/environment.h"
 #include "core/scene/light.h"
 #include "core/scene/material.h"
 
@@ -28,10 +29,19 @@ struct SkipConfig {
 // How a sample's light is computed (docs/global-illumination.md): Parker's Whitted-style model,
 // or unbiased path tracing. kAuto becomes path for scenes with emitters, Whitted otherwise
 // (finalize_scene decides).
-enum class Integrator : uint8_t { kAuto, kWhitted, kPath };
+enum class Integrator : uint8_t { kAuto, kWhitted, kPath, kIgi };
 const char* integrator_name(Integrator i);
-// "whitted" or "path" into out; false for anything else.
+// "whitted", "path" or "igi" into out; false for anything else.
 bool parse_integrator(const std::string& name, Integrator& out);
+
+// Instant global illumination (core/shading/igi.h): light paths per VPL set, the side of the
+// interleaved-sampling pattern (a different set for each of its pixels), and the clamping
+// distance of the geometry term as a fraction of the scene's bounding-box diagonal.
+struct IgiSettings {
+  int paths = 16;       // 1..4096
+  int interleave = 3;   // 1..8
+  float clamp = 0.02f;  // [0, 1]
+};
 
 struct RenderSettings {
   int width = 640;
@@ -39,7 +49,7 @@ struct RenderSettings {
   int spp = 16;                        // samples per pixel for one-shot renders
   int max_depth = 25;                  // Whitted recursion limit (OpenRT's headlight model needed 25)
   float min_contribution = 1.0f / 512; // prune ray-tree branches whose weight falls below this
-  Vec3 background{0.0f};               // radiance of rays that escape
+  Vec3 background{0.0f};               // radiance of rays that escape (without an environment map)
   uint64_t seed = 1;                   // global seed mixed into every sample
   SkipConfig skips;                    // which specialisations may be used (ablation switches)
   // Shadows: mode for lights with an extent (lights without one always cast hard shadows),
@@ -50,6 +60,7 @@ struct RenderSettings {
   bool transparent_shadows = false;
   AccelKind accel = AccelKind::kBvh;  // acceleration structure (bvh, grid, auto: core/accel/accel.h)
   Integrator integrator = Integrator::kAuto;
+  IgiSettings igi;
 };
 
 // What the scene needs, found at finalize time so the per-sample path skips the rest.
@@ -78,6 +89,8 @@ struct Scene {
   std::vector<uint8_t> cutout_materials;  // per material: has an alpha cut-out (accel reads it)
   std::vector<Light> lights;
   EmitterTable emitters;  // emissive triangles as area lights (finalize_scene builds it)
+  // settings.environment: the radiance of escaping rays from an image (null: settings.background).
+  std::shared_ptr<const EnvironmentMap> environment;
   Ambient ambient;
   Camera camera;
   RenderSettings settings;

@@ -85,11 +85,11 @@ BsdfSample phong_sample(const Vec3& ks, float exponent, const Vec3& wo, float u1
   return finish(wi, phong_eval(ks, exponent, wo, wi), phong_pdf(exponent, wo, wi));
 }
 
-Vec3 coupled_diffuse_eval(const Vec3& kd, float r0, const Vec3& wo, const Vec3& wi) {
+Vec3 coupled_diffuse_eval(const Vec3& kd, const Vec3& r0, const Vec3& wo, const Vec3& wi) {
   if (!above(wo) || !above(wi)) return Vec3(0.0f);
-  const float k = 21.0f / (20.0f * kPi) * (1.0f - r0);
-  return kd * (k * (1.0f - pow5(1.0f - std::min(wi.z, 1.0f))) *
-               (1.0f - pow5(1.0f - std::min(wo.z, 1.0f))));
+  const float k = 21.0f / (20.0f * kPi) * (1.0f - pow5(1.0f - std::min(wi.z, 1.0f))) *
+                  (1.0f - pow5(1.0f - std::min(wo.z, 1.0f)));
+  return kd * (Vec3(1.0f) - r0) * k;
 }
 
 Vec3 ggx_eval(const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi) {

@@ -38,7 +38,8 @@ BsdfSample phong_sample(const Vec3& ks, float exponent, const Vec3& wo, float u1
 // 21 / (20 pi) normalises it: its directional albedo at normal incidence is (1 - r0) kd, what
 // the Schlick coat of reflectance r0 leaves to the base (the hemisphere integral of
 // (1 - (1 - c)^5) c is 20 pi / 21). It is sampled like a Lambertian surface.
-Vec3 coupled_diffuse_eval(const Vec3& kd, float r0, const Vec3& wo, const Vec3& wi);
+// r0 per channel: the coat of a coloured r0 leaves each channel its own 1 - r0.
+Vec3 coupled_diffuse_eval(const Vec3& kd, const Vec3& r0, const Vec3& wo, const Vec3& wi);
 
 // Microfacet reflection for glTF's metallic-roughness materials: GGX distribution (Walter et al.
 // 2007) with its separable Smith masking and Schlick's Fresnel of reflectance f0 at normal

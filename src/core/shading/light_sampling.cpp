@@ -105,13 +105,18 @@ bool sample_emitter(const Scene& scene, const DynamicFrame* frame, const Vec3& p
   if (!(dist2 > 0.0f)) return false;
   const float dist = std::sqrt(dist2);
   out.wi = to / dist;
-  const Vec3 n = glm::normalize(glm::cross(b - a, c - a));
+  Vec3 n = glm::normalize(glm::cross(b - a, c - a));
   out.pdf = emitter_pdf(scene, index, out.wi, n, dist);
   if (!(out.pdf > 0.0f) || !std::isfinite(out.pdf)) return false;
-  out.tmax = dist * kShortOfLight;
+  // End the shadow ray at q moved off the emitter towards p by the triangle's rounding scale,
+  // so neither the emitter itself nor a blocker next to it is misjudged at any scene scale.
+  if (glm::dot(n, out.wi) > 0.0f) n = -n;
+  const Vec3 m3 = glm::max(glm::abs(a), glm::max(glm::abs(b), glm::abs(c)));
+  out.tmax = glm::dot(offset_ray_origin(q, n, std::max(m3.x, std::max(m3.y, m3.z))) - p, out.wi);
+  if (!(out.tmax > 0.0f)) return false;
   const uint16_t id = prim < g.triangle_material.size() ? g.triangle_material[prim] : 0;
   MaterialParams m = frame_material(scene, frame, id);
-  if (m.emission_tex != kNoTexture) {  // the texture at the sampled point
+  if (m.emission_tex != kNoTexture || m.cutout()) {  // the texture at the sampled point
     Ray ray;
     ray.org = p;
     ray.dir = out.wi;
@@ -120,6 +125,8 @@ bool sample_emitter(const Scene& scene, const DynamicFrame* frame, const Vec3& p
     hit.prim = prim;
     hit.u = bu;
     hit.v = bv;
+    // A hole of a cut-out emits nothing (BSDF rays pass through it too).
+    if (m.cutout() && !cutout_opaque(scene, prim, ray, dist, bu, bv)) return false;
     SurfacePoint sp = surface_point(g, ray, hit);
     apply_textures(scene, ray, hit, m, sp);
   }
@@ -134,15 +141,30 @@ float emitter_pdf(const Scene& scene, uint32_t index, const Vec3& d, const Vec3&
   return table.pmf(index) / table.area[index] * (t * t) / cos_l;
 }
 
-LightSample sample_environment(const Scene& scene, float u1, float u2) {
-  LightSample s;
+constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);
+
+bool sample_environment(const Scene& scene, float u1, float u2, LightSample& out) {
+  out.tmax = kInfinity;
+  if (const EnvironmentMap* env = scene.environment.get()) {
+    if (!env->sample(u1, u2, out.wi, out.pdf)) return false;
+    out.radiance = env->radiance(out.wi);
+    return true;
+  }
   const float z = 1.0f - 2.0f * u1;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
   const float phi = 2.0f * kPi * u2;
-  s.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
-  s.radiance = scene.settings.background;
-  s.pdf = kEnvironmentPdf;
-  return s;
+  out.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  out.radiance = scene.settings.background;
+  out.pdf = kUniformSpherePdf;
+  return true;
+}
+
+float environment_pdf(const Scene& scene, const Vec3& d) {
+  return scene.environment ? scene.environment->pdf(d) : kUniformSpherePdf;
+}
+
+bool environment_emits(const Scene& scene) {
+  return scene.environment ? !scene.environment->black() : max_component(scene.settings.background) > 0.0f;
 }
 
 }  // namespace frameless

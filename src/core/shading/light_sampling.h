@@ -42,8 +42,12 @@ bool sample_emitter(const Scene& scene, const DynamicFrame* frame, const Vec3& p
 // unit direction d on table entry `index` (a triangle with geometric unit normal n).
 float emitter_pdf(const Scene& scene, uint32_t index, const Vec3& d, const Vec3& n, float t);
 
-// The constant environment (settings.background) sampled uniformly over the sphere.
-inline constexpr float kEnvironmentPdf = 1.0f / (4.0f * kPi);
-LightSample sample_environment(const Scene& scene, float u1, float u2);
+// The environment: an image map by its importance (luminance x sin(theta)), or the constant
+// settings.background uniformly over the sphere. false when it gives nothing.
+bool sample_environment(const Scene& scene, float u1, float u2, LightSample& out);
+// The density sample_environment has at unit direction d.
+float environment_pdf(const Scene& scene, const Vec3& d);
+// Whether the environment emits at all (skip its sampling otherwise).
+bool environment_emits(const Scene& scene);
 
 }  // namespace frameless

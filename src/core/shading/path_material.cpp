@@ -35,7 +35,9 @@ inline float coat_probability(const PathSurface& s) {
 PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world) {
   PathSurface s;
   s.m = m;
-  s.frame = make_shading_frame(sp.ns);
+  // An interpolated normal can face away from the viewer at silhouettes: shade with the
+  // geometric normal there rather than lose the vertex (Whitted clamps the same way).
+  s.frame = make_shading_frame(glm::dot(sp.ns, wo_world) > 0.0f ? sp.ns : sp.ng);
   s.wo_world = wo_world;
   s.wo = s.frame.to_local(wo_world);
   s.ng = sp.ng;
@@ -60,7 +62,7 @@ Vec3 path_eval(const PathSurface& s, const Vec3& wi) {
     case MaterialClass::kDiffuse:
       return lambert_eval(s.m.kd, s.wo, l);
     case MaterialClass::kPolished:
-      return coupled_diffuse_eval(s.m.kd, mean3(s.m.r0), s.wo, l);
+      return coupled_diffuse_eval(s.m.kd, s.m.r0, s.wo, l);
     default:
       return Vec3(0.0f);
   }
@@ -131,7 +133,7 @@ bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter
         out.wi = s.frame.to_world(l);
         out.pdf = (1.0f - p) * lambert_pdf(s.wo, l);
         if (out.pdf > 0.0f)
-          out.weight = coupled_diffuse_eval(s.m.kd, mean3(s.m.r0), s.wo, l) * (l.z / out.pdf);
+          out.weight = coupled_diffuse_eval(s.m.kd, s.m.r0, s.wo, l) * (l.z / out.pdf);
       }
       break;
     }

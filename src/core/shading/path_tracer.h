@@ -5,12 +5,9 @@
 #include "core/geometry/surface.h"
 #include "core/scene/dynamic.h"
 #include "core/scene/scene.h"
+#include "core/shading/direct_light.h"
 
 namespace frameless {
-
-// How light sources are found: both strategies weighted by MIS (the renderer), or one alone
-// (the tests check that all three have the same mean).
-enum class LightStrategy : uint8_t { kMis, kLightOnly, kBsdfOnly };
 
 struct PathOptions {
   LightStrategy strategy = LightStrategy::kMis;

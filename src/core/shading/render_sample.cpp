@@ -7,13 +7,15 @@
 #include "core/base/rng.h"
 #include "core/base/sobol.h"
 #include "core/scene/scene_analysis.h"
+#include "core/shading/igi.h"
 #include "core/shading/path_tracer.h"
 #include "core/shading/shading.h"
 
 namespace frameless {
 
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
-                          uint64_t rng_seed, const DynamicFrame* frame, const Hit* known_hit) {
+                          uint64_t rng_seed, const DynamicFrame* frame, const Hit* known_hit,
+                          uint32_t sample_index) {
   const Ray ray = camera_ray(camera, px, py);
   SampleResult out;
   Hit hit;
@@ -21,6 +23,8 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   int levels = 0;
   if (scene.settings.integrator == Integrator::kPath) {
     out.color = trace_path(scene, ray, rng_seed, frame, known_hit, &hit, &sp, &levels);
+  } else if (scene.settings.integrator == Integrator::kIgi) {
+    out.color = trace_igi(scene, ray, px, py, sample_index, rng_seed, frame, known_hit, &hit, &sp, &levels);
   } else {
     // The shading path is chosen once per sample from the scene's features and skips.
     out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
@@ -70,7 +74,7 @@ SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x,
                            uint32_t sample_index, bool jitter, const DynamicFrame* frame) {
   const uint64_t seed = sample_seed(uint32_t(x), uint32_t(y), sample_index, scene.settings.seed);
   float jx = 0.5f, jy = 0.5f;
-  if (jitter && scene.settings.integrator == Integrator::kPath) {
+  if (jitter && scene.settings.integrator >= Integrator::kPath) {
     // Stratified at every power of two of the pixel's samples (Owen-scrambled Sobol').
     owen_sobol_2d(sample_index, sample_seed(uint32_t(x), uint32_t(y), 0, scene.settings.seed ^ 0x50b01ull), jx, jy);
   } else if (jitter) {
@@ -79,7 +83,8 @@ SampleResult render_sample(const Scene& scene, const CameraBasis& camera, int x,
     jy = rng.next_float();
   }
   // A distinct stream for shading, so jitter and shading choices never share numbers.
-  return trace_sample(scene, camera, float(x) + jx, float(y) + jy, mix64(seed ^ 0x5bd1e995ull), frame);
+  return trace_sample(scene, camera, float(x) + jx, float(y) + jy, mix64(seed ^ 0x5bd1e995ull), frame,
+                      nullptr, sample_index);
 }
 
 }  // namespace frameless

@@ -35,9 +35,10 @@ inline bool point_may_move(uint32_t object) { return object >= kPointDynamic; }
 // stochastic choice inside shading. frame: the moving objects, lights and materials at the
 // sample's instant (core/scene/dynamic.h); null renders the scene as loaded, without dynamic objects.
 // known_hit (optional): the static scene's closest hit of this camera ray, from primary_hits.
+// sample_index: the sample's index among its pixel's samples (igi picks the VPL set by it).
 SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float px, float py,
                           uint64_t rng_seed, const DynamicFrame* frame = nullptr,
-                          const Hit* known_hit = nullptr);
+                          const Hit* known_hit = nullptr, uint32_t sample_index = 0);
 
 // The static scene's closest hits of n camera rays through (px[i], py[i]), traced as coherent
 // packets (Accel::intersect_packet): exactly the hits single rays find, so trace_sample with

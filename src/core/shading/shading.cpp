@@ -315,7 +315,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
   }
   if (first_hit) *first_hit = hit;
   if (!found) {
-    Vec3 bg = scene.settings.background;
+    Vec3 bg = escaped_radiance(scene.environment.get(), scene.settings.background, ray.dir);
     // An escaping ray inside an absorbing medium travels forever: exp(-kappa inf) = 0.
     if constexpr ((F & kShadeAbsorption) != 0)
       if (medium)
