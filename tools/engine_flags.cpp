@@ -34,6 +34,9 @@ void EngineFlags::add_to(CLI::App& app) {
   app.add_flag("--no-jitter", no_jitter, "sample pixel centres only");
   app.add_flag("--no-packets", no_packets,
                "trace camera rays one by one instead of as 8-ray packets (same image, slower)");
+  app.add_flag("--denoise", denoise,
+               "show the image through an edge-avoiding a-trous filter guided by normals, positions "
+               "and albedo (for noisy light: --integrator path or igi)");
   app.add_flag("--adaptive", adaptive,
                "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
 }
@@ -71,6 +74,8 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   blend.reproject_budget = reproject_budget;
   e.max_samples_per_s = max_samples_per_s;
   blend.temporal = temporal;
+  blend.denoise = denoise;
+  if (denoise) e.track_variance = true;  // the filter's luminance weights read it
   return true;
 }
 

@@ -175,20 +175,28 @@ int run_gi(const GiOptions& options) {
     if (!igi_scene) return 2;
     igi_scene->settings.width = width;
     igi_scene->settings.height = height;
-    const std::pair<const char*, const Scene*> runs[] = {{"path", scene.get()}, {"igi", igi_scene.get()}};
+    struct Run {
+      const char* name;
+      const Scene* scene;
+      bool denoise;
+    };
+    const Run runs[] = {{"path", scene.get(), false}, {"path_denoise", scene.get(), true}, {"igi", igi_scene.get(), false}};
     std::string dat;
-    for (const auto& [name, sc] : runs) {
+    for (const auto& [name, sc, denoise] : runs) {
       LiveMode fl;
       fl.name = fl.kind = name;
       fl.engine.width = width;
       fl.engine.height = height;
       fl.engine.threads = threads;
+      fl.display.blend.denoise = denoise;
+      fl.engine.track_variance = denoise;
       bench_progress("gi", std::string("frameless ") + name + " for " + csv_number(run_s) + " s");
       const LiveResult live = run_live(*sc, fl, sched);
       nlohmann::json fj;
       fj["samples_per_s"] = live.samples_per_s;
       fj["ticks"] = live.ticks.size();
       fj["dropped_samples"] = live.dropped;
+      fj["display_cpu_share"] = live.seconds > 0 ? live.display_cpu_seconds / live.seconds : 0.0;
       dat += std::string("# frameless ") + name + ": t rmse_debiased spp\n";
       for (const TickRecord& t : live.ticks)
         if (t.samples > 0)
@@ -217,7 +225,7 @@ int run_gi(const GiOptions& options) {
                        {"samples_per_pixel", double(last.samples) / double(pixels)}};
       }
       nlohmann::json shots = nlohmann::json::array();
-      for (int n : a.spp) {
+      for (int n : denoise ? std::vector<int>{} : a.spp) {  // the display's filter: live runs only
         TileRenderOptions o;
         o.spp = n;
         o.threads = threads;
@@ -229,6 +237,32 @@ int run_gi(const GiOptions& options) {
       fj["one_shot"] = shots;
       j["frameless"][name] = fj;
     }
+    // The denoiser's cost on the display thread at 1280x720 (path, 3 s each, with and without;
+    // both score every image against a black reference, so the difference is the filter's).
+    if (!a.quick) {
+      const std::vector<float> black(size_t(1280) * 720 * 3, 0.0f);
+      LiveSchedule big;
+      big.poses = {scene->camera};
+      big.references = {&black};
+      big.noise_mse = {0.0};
+      big.duration = 3.0;
+      nlohmann::json cost;
+      for (bool denoise : {false, true}) {
+        LiveMode m;
+        m.name = m.kind = denoise ? "denoise" : "plain";
+        m.engine.width = 1280;
+        m.engine.height = 720;
+        m.engine.threads = threads;
+        m.display.blend.denoise = denoise;
+        m.engine.track_variance = denoise;
+        bench_progress("gi", std::string("display cost at 1280x720, ") + m.name);
+        const LiveResult r = run_live(*scene, m, big);
+        cost[m.name] = {{"display_cpu_share", r.seconds > 0 ? r.display_cpu_seconds / r.seconds : 0.0},
+                        {"ticks", r.ticks.size()},
+                        {"ms_per_tick", r.ticks.empty() ? 0.0 : 1e3 * r.display_cpu_seconds / double(r.ticks.size())}};
+      }
+      j["denoise_cost_1280x720"] = cost;
+    }
     dat += "# Cycles: t rmse_debiased spp\n";
     for (size_t k = 0; k < cycles_t.size(); ++k)
       dat += csv_number(cycles_t[k]) + " " + csv_number(cycles_rmse[k]) + " " + std::to_string(a.spp[k]) + "\n";
@@ -238,9 +272,10 @@ int run_gi(const GiOptions& options) {
             std::to_string(threads) + " threads)'\n";
     body += "set xlabel 'seconds'\nset ylabel 'RMSE (reference noise removed)'\n";
     body += "plot '" + a.out + "/gi.dat' index 0 using 1:2 with lines lw 2 title 'frameless path'";
-    body += ", '" + a.out + "/gi.dat' index 1 using 1:2 with lines lw 2 title 'frameless igi'";
+    body += ", '" + a.out + "/gi.dat' index 1 using 1:2 with lines lw 2 title 'frameless path --denoise'";
+    body += ", '" + a.out + "/gi.dat' index 2 using 1:2 with lines lw 2 title 'frameless igi'";
     if (!cycles_t.empty())
-      body += ", '" + a.out + "/gi.dat' index 2 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
+      body += ", '" + a.out + "/gi.dat' index 3 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
               gnuplot_text(cj.value("version", "")) + "'";
     bool png = false;
     if (!plot_png(a.out, "gi", 800, 500, body, error, &png)) return report_error(error);
@@ -268,6 +303,12 @@ int run_gi(const GiOptions& options) {
                     c.value("frameless_rmse", 0.0), c.value("ratio", 0.0));
       for (const auto& [t, r] : fj["rmse_at_seconds"].items())
         std::printf("    display RMSE at %s s: %.4f\n", t.c_str(), r.get<double>());
+      std::printf("    display thread: %.0f %% of a core\n", 100 * fj["display_cpu_share"].get<double>());
+    }
+    if (j.contains("denoise_cost_1280x720")) {
+      const auto& c = j["denoise_cost_1280x720"];
+      std::printf("  display at 1280x720: %.1f ms per tick plain, %.1f ms with --denoise\n",
+                  c["plain"]["ms_per_tick"].get<double>(), c["denoise"]["ms_per_tick"].get<double>());
     }
     std::printf("  wrote %s/gi.json\n", a.out.c_str());
   } catch (const std::exception& ex) {

@@ -161,7 +161,8 @@ int run_motion(const MotionOptions& options) {
     // within 25 % in bench engine's 1280x720 move).
     static const char* const kVariants[] = {"reproject", "reproject+temporal", "temporal",
                                             "closed-loop", "reproject+temporal+closed-loop",
-                                            "reproject+temporal+budget", "reproject+temporal+adaptive"};
+                                            "reproject+temporal+budget", "reproject+temporal+adaptive",
+                                            "reproject+temporal+denoise"};
     for (const char* variant : kVariants) {
       const std::string v = variant;
       RunRow r = frameless_row(v, "frameless " + v + " a=" + csv_number(a.alpha) + " p=" + csv_number(a.percent) + "%",
@@ -171,6 +172,8 @@ int run_motion(const MotionOptions& options) {
       r.mode.engine.closed_loop = v.find("closed-loop") != std::string::npos;
       if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = float(a.budget);
       r.mode.engine.adaptive.enabled = v.find("adaptive") != std::string::npos;
+      // The display's a-trous filter (display/denoise.h) reads each pixel's variance.
+      r.mode.display.blend.denoise = r.mode.engine.track_variance = v.find("denoise") != std::string::npos;
       rows.push_back(r);
     }
     // Equal error at fewer samples: the headline motion settings on half the render threads,

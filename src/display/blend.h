@@ -26,6 +26,10 @@ struct BlendConfig {
   // camera change that would exceed it merges into the next one, as when the display falls
   // behind. Deterministic runs ignore it (their steps must not depend on the clock).
   float reproject_budget = 0.0f;  // default: unlimited (on 2 cores the error under motion is far lower)
+  // Edge-avoiding a-trous filter of the shown image, guided by each pixel's normal, position and
+  // albedo (display/denoise.h): the display's own state stays unfiltered.
+  bool denoise = false;
+  int denoise_iterations = 3;  // 1..8: the filter reaches 2^iterations pixels
 };
 
 // displayed (1 - alpha) + sample alpha, per channel.

@@ -20,6 +20,24 @@
 #include "display/display_thread_impl.h"
 
 namespace frameless {
+namespace {
+
+// Brings `out` up to `img` and, when img carries denoising guides, shows it filtered; the raw
+// colours wait in f.raw so that the next sync patches raw values.
+void show(const PixelImage& img, DisplayImage& out, uint64_t& synced, FilteredShow& f) {
+  if (f.active) {
+    out.rgb.swap(f.raw);
+    f.active = false;
+  }
+  sync_public(img, out, synced);
+  if (img.denoise_iterations > 0 && img.guides.size() == out.pixels()) {
+    f.raw = out.rgb;
+    denoise_image(out, img.guides, img.denoise_iterations, f.buffers);
+    f.active = true;
+  }
+}
+
+}  // namespace
 
 FrameInfo DisplayThread::Impl::run_tick(double interval) {
   DisplayConfig cfg;
@@ -53,9 +71,20 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   info.dropped_samples = r.dropped;
   info.rejected = rejected;
 
+  // The denoiser's guides: each pixel's newest normal, position and albedo (read here, while
+  // the engine's points are certainly valid).
+  if (cfg.blend.denoise && r.points && image.pixels() > 0) {
+    image.guides.resize(image.pixels());
+    for (size_t i = 0; i < image.pixels(); ++i)
+      if (!read_guide(r.points[i], image.guides[i])) image.guides[i] = PointGuide{};
+    image.denoise_iterations = std::clamp(cfg.blend.denoise_iterations, 1, 8);
+  } else {
+    image.guides.clear();
+    image.denoise_iterations = 0;
+  }
   publish();
   if (on_tick) {
-    sync_public(image, tick_image, tick_image_synced);
+    show(image, tick_image, tick_image_synced, tick_filter);
     on_tick(tick_image);
   }
   if (on_tick_info) on_tick_info(info);
@@ -273,7 +302,7 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
     d.front = old & 3u;
     // The public layers are built here, on the consumer's thread, and only for images it takes:
     // from the image's change history when it covers the ticks since the last one taken.
-    sync_public(d.buf[d.front], d.latest, d.latest_synced);
+    show(d.buf[d.front], d.latest, d.latest_synced, d.latest_filter);
   }
   if (is_new) *is_new = fresh;
   return d.latest;

@@ -15,10 +15,19 @@
 #include "display/display_pixel.h"
 #include "display/display_thread.h"
 #include "display/reproject.h"
+#include "display/denoise.h"
 #include "display/slot_image.h"
 #include "frameless/cpu_clock.h"
 
 namespace frameless {
+
+// A public image shown denoised (display/denoise.h): its unfiltered colours wait in `raw` while it
+// shows filtered ones, so the next sync patches unfiltered values.
+struct FilteredShow {
+  std::vector<float> raw;
+  bool active = false;
+  DenoiseBuffers buffers;
+};
 
 struct DisplayThread::Impl {
   static constexpr uint32_t kNew = 4;  // marks an unconsumed image in `middle`
@@ -77,6 +86,7 @@ struct DisplayThread::Impl {
   uint32_t front = 2;
   DisplayImage latest;        // consumer: public layers of buf[front]
   uint64_t latest_synced = 0;  // consumer: ticks whose changes `latest` holds (0: none)
+  FilteredShow latest_filter, tick_filter;  // denoised showing of `latest` and `tick_image`
 
   // Wall-clock thread.
   std::thread thread;

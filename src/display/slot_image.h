@@ -51,6 +51,10 @@ struct PixelImage {
   std::vector<DisplayPixel> px;
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
+  // Denoising (BlendConfig::denoise): each pixel's guides at this tick, in pixel order (empty:
+  // show the image unfiltered), and the filter's passes.
+  std::vector<PointGuide> guides;
+  int denoise_iterations = 0;
 
   size_t pixels() const { return size_t(width) * size_t(height); }
   uint32_t pixel_of(size_t slot) const { return layout ? (*layout->pixel_of)[slot] : uint32_t(slot); }

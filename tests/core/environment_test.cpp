@@ -12,11 +12,16 @@
 #include "core/base/rng.h"
 #include "core/io/scene_json.h"
 #include "core/shading/path_tracer.h"
+#include "path_estimate.h"
 #include "core/shading/shading.h"
 #include "exr_writer.h"
 
 namespace frameless {
 namespace {
+
+using testing::estimate;
+using testing::Estimate;
+using testing::make_ray;
 
 namespace fs = std::filesystem;
 
@@ -45,26 +50,6 @@ Result<std::unique_ptr<Scene>> scene_with(const std::string& env, const std::str
   return parse_scene_json(R"({"settings":{"integrator":"path","max_depth":1000,"environment":)" + env +
                               R"(},"ambient":{"type":"none"},)" + rest + "}",
                           (dir() / "s.json").string(), dir().string());
-}
-
-Ray make_ray(const Vec3& org, const Vec3& dir) {
-  Ray r;
-  r.org = org;
-  r.dir = glm::normalize(dir);
-  return r;
-}
-
-struct Estimate {
-  double mean = 0, se = 0;
-};
-Estimate estimate(const Scene& s, const Ray& ray, int n, uint64_t seed, const PathOptions& o = {}) {
-  double sum = 0, sum2 = 0;
-  for (int i = 0; i < n; ++i) {
-    const double v = trace_path(s, ray, mix64(seed + uint64_t(i)), nullptr, nullptr, nullptr, nullptr, nullptr, o).x;
-    sum += v;
-    sum2 += v * v;
-  }
-  return {sum / n, std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)) / n)};
 }
 
 // A scene needs an object: a speck far below everything the tests look at.

@@ -11,42 +11,21 @@
 #include "core/io/scene_json.h"
 #include "core/scenes/scene_load.h"
 #include "core/shading/path_tracer.h"
+#include "path_estimate.h"
 #include "core/shading/render_sample.h"
 #include "core/shading/shading.h"
 
 namespace frameless {
 namespace {
 
+using testing::estimate;
+using testing::Estimate;
+using testing::make_ray;
+
 std::unique_ptr<Scene> parse_ok(const std::string& json) {
   auto s = parse_scene_json(json, "t.json", ".");
   EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
   return s.ok() ? std::move(*s) : nullptr;
-}
-
-Ray make_ray(const Vec3& org, const Vec3& dir) {
-  Ray r;
-  r.org = org;
-  r.dir = glm::normalize(dir);
-  return r;
-}
-
-// Mean and standard error of channel x of n paths along `ray`.
-struct Estimate {
-  double mean = 0.0, se = 0.0;
-};
-Estimate estimate(const Scene& s, const Ray& ray, int n, uint64_t seed, const PathOptions& o = {}) {
-  double sum = 0.0, sum2 = 0.0;
-  for (int i = 0; i < n; ++i) {
-    // Streams (seed, i): estimates with different seeds share no random numbers.
-    const double v = trace_path(s, ray, mix64(seed << 32 | uint64_t(i)), nullptr, nullptr, nullptr,
-                                nullptr, nullptr, o).x;
-    sum += v;
-    sum2 += v * v;
-  }
-  Estimate e;
-  e.mean = sum / n;
-  e.se = std::sqrt(std::max(0.0, sum2 / n - e.mean * e.mean) / n);
-  return e;
 }
 
 // A white furnace: objects inside a uniform environment of radiance 1, no lights, no ambient.

@@ -10,6 +10,14 @@ bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& r
 // Adds the frame's moving objects to `hit`, the static scene's closest hit of `ray` (invalid on a
 // miss); returns whether anything was hit.
 bool merge_dynamic_hit(const DynamicFrame* frame, const Ray& ray, Hit& hit);
+// The same, where `known_hit` (when not null) is the static scene's closest hit of `ray`, already
+// found (a camera ray's packet): only the moving objects are then tested.
+inline bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
+                            const Hit* known_hit, Hit& hit) {
+  if (!known_hit) return scene_intersect(scene, frame, ray, hit);
+  hit = *known_hit;
+  return merge_dynamic_hit(frame, ray, hit);
+}
 // Any hit over both (shadow rays).
 bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ray);
 // Surface point of a hit from scene_intersect (static or dynamic).

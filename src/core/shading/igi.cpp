@@ -109,13 +109,7 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
   int bounce = 0;
   for (; bounce <= scene.settings.max_depth; ++bounce) {
     Hit hit;
-    bool found;
-    if (bounce == 0 && known_hit) {
-      hit = *known_hit;
-      found = merge_dynamic_hit(frame, ray, hit);
-    } else {
-      found = scene_intersect(scene, frame, ray, hit);
-    }
+    const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
     if (!found) {  // seen from the camera or through mirrors and glass
       radiance += beta * beer(extinction, kInfinity) *

@@ -45,6 +45,12 @@ PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, c
   return s;
 }
 
+Vec3 guide_albedo(const MaterialParams& m) {
+  if (max_component(m.emission) > 0.0f) return Vec3(0.0f);  // emitters: not the denoiser's
+  const Vec3 a = m.cls == MaterialClass::kMetal ? m.ks : m.cls == MaterialClass::kDielectric ? Vec3(1.0f) : m.kd;
+  return glm::clamp(a, Vec3(0.0f), Vec3(1.0f));
+}
+
 bool path_is_smooth(const PathSurface& s) {
   return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished;
 }

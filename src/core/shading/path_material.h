@@ -47,6 +47,11 @@ struct PathScatter {
   bool transmitted = false;  // crossed into (or out of) the dielectric
 };
 
+// The colour a denoiser divides out of a hit's light (and multiplies back): the diffuse
+// colour, a metal's k_s, 1 for glass; clamped to [0, 1]. 0 for an emitter: the denoiser leaves
+// it alone (its radiance would bleed into the surfaces around it).
+Vec3 guide_albedo(const MaterialParams& m);
+
 // Samples a direction with three uniform numbers in [0, 1); false when the path ends (below the
 // surface, zero weight).
 bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter& out);

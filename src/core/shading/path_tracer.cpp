@@ -37,13 +37,7 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
   int bounce = 0;
   for (;; ++bounce) {
     Hit hit;
-    bool found;
-    if (bounce == 0 && known_hit) {
-      hit = *known_hit;
-      found = merge_dynamic_hit(frame, ray, hit);
-    } else {
-      found = scene_intersect(scene, frame, ray, hit);
-    }
+    const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
     // Parker's lights with an extent, reached by a BSDF-sampled ray before any surface.
     if (smooth_bounce && st.extended_lights && st.strategy != LightStrategy::kLightOnly) {

@@ -7,6 +7,7 @@
 #include "core/base/rng.h"
 #include "core/base/sobol.h"
 #include "core/scene/scene_analysis.h"
+#include "core/shading/direct_light.h"
 #include "core/shading/igi.h"
 #include "core/shading/path_tracer.h"
 #include "core/shading/shading.h"
@@ -32,6 +33,10 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
                                     &levels);
   }
   out.levels = uint8_t(std::min(levels, 255));
+  if (hit.valid() && scene.settings.integrator >= Integrator::kPath) {
+    SurfacePoint tsp = sp;  // material_at may perturb it
+    out.albedo = guide_albedo(material_at(scene, frame, ray, hit, tsp));
+  }
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;
@@ -54,6 +59,7 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   if (!out.valid) {
     out.color = Vec3(0.0f);
     out.normal = Vec3(0.0f);
+    out.albedo = Vec3(0.0f);
     out.depth = kInfinity;
     out.object = kPointNone;
   }

@@ -19,6 +19,9 @@ struct SampleResult {
   // was hit (kPoint* below).
   Vec3 position{0.0f};
   uint32_t object = 0;
+  // The primary hit's albedo for the display's denoiser (path and igi only; 0 otherwise): the
+  // diffuse colour, a metal's k_s, 1 for glass.
+  Vec3 albedo{0.0f};
 };
 
 // SampleResult::object: nothing yet, the sky (position is a direction), the static scene, a
