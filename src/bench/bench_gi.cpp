@@ -11,7 +11,10 @@
 #include "bench/bench_live.h"
 #include "bench/bench_report.h"
 #include "bench/cycles_peer.h"
+#include "core/scene/scene_analysis.h"
+#include "core/scene/scene_build.h"
 #include "core/scenes/scene_load.h"
+#include "core/shading/irradiance_bake.h"
 #include "display/png_io.h"
 #include "frameless/reference_cache.h"
 #include "frameless/tile_render.h"
@@ -263,6 +266,41 @@ int run_gi(const GiOptions& options) {
       }
       j["denoise_cost_1280x720"] = cost;
     }
+    // Parker's ambient against the path-traced reference: the Whitted integrator with the
+    // irradiance volume the path tracer bakes, and with the default hemisphere ambient.
+    {
+      nlohmann::json amb;
+      for (const char* kind : {"irradiance_volume", "hemisphere"}) {
+        ShadowOptions wo = a.shadows;
+        wo.integrator = "whitted";
+        std::unique_ptr<Scene> ws = load_scene_or_report(a.scene, &wo);
+        if (!ws) return 2;
+        double bake = 0.0;
+        if (std::string(kind) == "irradiance_volume") {
+          ws->ambient = Ambient{};
+          ws->ambient.kind = AmbientKind::kIrradianceVolume;
+          bench_progress("gi", "baking the irradiance volume");
+          bake = bake_irradiance_volume(*ws);
+        } else {
+          ws->ambient = default_hemisphere_ambient();
+        }
+        ws->features = analyse_scene(*ws);
+        TileRenderOptions o;
+        o.spp = 16;
+        o.threads = threads;
+        const RenderedImage img = render_tiles(*ws, make_camera_basis(ws->camera, width, height), o);
+        const double m = std::max(0.0, mse(img.rgb, ref->rgb) - ref->noise_mse);
+        amb[kind] = {{"rmse", std::sqrt(m)}, {"bake_seconds", bake}, {"render_seconds_16spp", img.seconds}};
+        if (std::string(kind) == "irradiance_volume") {
+          const IrradianceVolume& v = *ws->ambient.volume;
+          amb[kind]["grid"] = {v.nx, v.ny, v.nz};
+          amb[kind]["paths_per_vertex"] = ws->ambient.volume_samples;
+          if (auto w = write_png(a.out + "/whitted_irradiance_volume.png", width, height, img.rgb.data()); !w)
+            return report_error(w.error().message);
+        }
+      }
+      j["whitted_ambient_vs_path"] = amb;
+    }
     dat += "# Cycles: t rmse_debiased spp\n";
     for (size_t k = 0; k < cycles_t.size(); ++k)
       dat += csv_number(cycles_t[k]) + " " + csv_number(cycles_rmse[k]) + " " + std::to_string(a.spp[k]) + "\n";
@@ -305,6 +343,9 @@ int run_gi(const GiOptions& options) {
         std::printf("    display RMSE at %s s: %.4f\n", t.c_str(), r.get<double>());
       std::printf("    display thread: %.0f %% of a core\n", 100 * fj["display_cpu_share"].get<double>());
     }
+    for (const auto& [kind, v] : j["whitted_ambient_vs_path"].items())
+      std::printf("  Whitted with %s ambient: RMSE %.4f against the path tracer (bake %.2f s)\n", kind.c_str(),
+                  v["rmse"].get<double>(), v["bake_seconds"].get<double>());
     if (j.contains("denoise_cost_1280x720")) {
       const auto& c = j["denoise_cost_1280x720"];
       std::printf("  display at 1280x720: %.1f ms per tick plain, %.1f ms with --denoise\n",

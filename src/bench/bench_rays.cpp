@@ -20,7 +20,11 @@
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "core/accel/instance.h"
+#include "core/base/rng.h"
+#include "core/geometry/shading_frame.h"
+#include "core/geometry/surface.h"
 #include "core/scene/scene.h"
+#include "core/shading/bsdf.h"
 #include "frameless/cpu_clock.h"
 
 #if defined(FRAMELESS_HAVE_EMBREE)
@@ -142,6 +146,36 @@ int run_rays(const RaysOptions& a) {
       shadow.push_back(r);
     }
   }
+  // Incoherent rays, as the path tracer traces them: at each primary hit one cosine-weighted
+  // diffuse bounce about the geometric normal, and from each bounce's hit a shadow ray to a light.
+  std::vector<Ray> bounce, bounce_shadow;
+  {
+    Rng rng(7);
+    for (size_t i = 0; i < primary.size(); ++i) {
+      if (!hits[i].valid() || hits[i].inst != kInvalidId) continue;  // flat geometry's hits
+      const SurfacePoint sp = surface_point(geom, primary[i], hits[i]);
+      Ray r;
+      r.org = offset_ray_origin(sp.p, sp.ng, sp.scale);
+      const float u1 = rng.next_float(), u2 = rng.next_float();
+      r.dir = make_shading_frame(sp.ng).to_world(sample_cosine_hemisphere(u1, u2));
+      bounce.push_back(r);
+    }
+    for (const Ray& r : bounce) {
+      Hit h;
+      if (!accel.intersect(r, h) || h.inst != kInvalidId) continue;
+      const SurfacePoint sp = surface_point(geom, r, h);
+      Ray s;
+      s.org = offset_ray_origin(sp.p, sp.ng, sp.scale);
+      s.dir = lights[size_t(rng.next_u32() % lights.size())] - s.org;
+      s.tmin = 0.0f;
+      s.tmax = 1.0f - 1e-4f;
+      bounce_shadow.push_back(s);
+    }
+  }
+  std::vector<uint8_t> bounce_occ(bounce_shadow.size());
+  std::vector<Hit> bounce_hits(bounce.size());
+  Timing b1, bn, bs1, bsn;
+
   std::vector<uint8_t> occluded(shadow.size());
   std::vector<Hit> packet_hits(primary.size());
   std::vector<uint8_t> packet_occluded(shadow.size());
@@ -166,7 +200,9 @@ int run_rays(const RaysOptions& a) {
   if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads);
   std::vector<EmbreeHit> ehits(primary.size());
   std::vector<uint8_t> eocc(shadow.size());
-  Timing ep1, epn, e81, e8n, es1, esn, es81, es8n;
+  Timing ep1, epn, e81, e8n, es1, esn, es81, es8n, eb1, ebn, ebs1, ebsn;
+  std::vector<EmbreeHit> ebhits(bounce.size());
+  std::vector<uint8_t> ebocc(bounce_shadow.size());
 #endif
   for (int rep = 0; rep < a.reps; ++rep) {
     if (progress) std::fprintf(stderr, "\rrepetition %d/%d", rep + 1, a.reps);
@@ -183,6 +219,16 @@ int run_rays(const RaysOptions& a) {
       }));
       ts.add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) occluded[i] = accel.occluded(shadow[i]);
+      }));
+      (nt == 1 ? b1 : bn).add(run_chunks(nt, bounce.size(), [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) {
+          Hit h;
+          accel.intersect(bounce[i], h);
+          bounce_hits[i] = h;
+        }
+      }));
+      (nt == 1 ? bs1 : bsn).add(run_chunks(nt, bounce_shadow.size(), [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) bounce_occ[i] = accel.occluded(bounce_shadow[i]);
       }));
       (nt == 1 ? pk1 : pkn).add(run_chunks(nt, primary.size(), trace_packets));
       (nt == 1 ? sk1 : skn).add(run_chunks(nt, shadow.size(), occlude_packets));
@@ -201,13 +247,19 @@ int run_rays(const RaysOptions& a) {
         (nt == 1 ? es81 : es8n).add(run_chunks(nt, shadow.size(), [&](size_t b, size_t e) {
           embree.occluded8(shadow.data() + b, eocc.data() + b, e - b);
         }));
+        (nt == 1 ? eb1 : ebn).add(run_chunks(nt, bounce.size(), [&](size_t b, size_t e) {
+          embree.intersect1(bounce.data() + b, ebhits.data() + b, e - b);
+        }));
+        (nt == 1 ? ebs1 : ebsn).add(run_chunks(nt, bounce_shadow.size(), [&](size_t b, size_t e) {
+          embree.occluded1(bounce_shadow.data() + b, ebocc.data() + b, e - b);
+        }));
       }
 #endif
       if (threads == 1) break;
     }
   }
   if (progress) std::fprintf(stderr, "\r%*s\r", 30, "");
-  if (threads == 1) pn = p1, sn = s1, pkn = pk1, skn = sk1;
+  if (threads == 1) pn = p1, sn = s1, pkn = pk1, skn = sk1, bn = b1, bsn = bs1;
   size_t shadow_occluded = 0;
   for (uint8_t o : occluded) shadow_occluded += o;
   // Packets must return exactly the single rays' answers (hit, distance bits, primitive).
@@ -251,6 +303,12 @@ int run_rays(const RaysOptions& a) {
   j["shadow_packet_mrays_per_s"] = skn.mrays(shadow.size());
   j["primary_packet_mrays_per_s_1t"] = pk1.mrays(primary.size());
   j["shadow_packet_mrays_per_s_1t"] = sk1.mrays(shadow.size());
+  j["bounce_rays"] = bounce.size();
+  j["bounce_shadow_rays"] = bounce_shadow.size();
+  j["bounce_mrays_per_s_1t"] = b1.mrays(bounce.size());
+  j["bounce_mrays_per_s"] = bn.mrays(bounce.size());
+  j["bounce_shadow_mrays_per_s_1t"] = bs1.mrays(bounce_shadow.size());
+  j["bounce_shadow_mrays_per_s"] = bsn.mrays(bounce_shadow.size());
   j["packet_size"] = kPacketSize;
   j["packet_primary_mismatches"] = primary.size() - packet_same;
   j["packet_shadow_mismatches"] = shadow.size() - packet_occ_same;
@@ -261,7 +319,7 @@ int run_rays(const RaysOptions& a) {
   nlohmann::ordered_json e;
   if (embree_ptr) {
     const EmbreeBench& embree = *embree_ptr;
-    if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81;
+    if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81, ebn = eb1, ebsn = ebs1;
     // Agreement on hit/miss and the hit primitive (edges may legitimately differ).
     size_t same_hit = 0, same_occ = 0;
     for (size_t i = 0; i < primary.size(); ++i)
@@ -298,6 +356,14 @@ int run_rays(const RaysOptions& a) {
     e["ratio_primary_packet_vs_intersect1"] = pkn.mrays(1) / epn.mrays(1);
     e["ratio_shadow_packet_vs_occluded1"] = skn.mrays(1) / esn.mrays(1);
     e["ratio_shadow_packet_vs_packet8"] = skn.mrays(1) / es8n.mrays(1);
+    if (!bounce.empty()) {
+      e["ratio_bounce_vs_intersect1_1t"] = b1.mrays(1) / eb1.mrays(1);
+      e["ratio_bounce_vs_intersect1"] = bn.mrays(1) / ebn.mrays(1);
+    }
+    if (!bounce_shadow.empty()) {
+      e["ratio_bounce_shadow_vs_occluded1_1t"] = bs1.mrays(1) / ebs1.mrays(1);
+      e["ratio_bounce_shadow_vs_occluded1"] = bsn.mrays(1) / ebsn.mrays(1);
+    }
     e["primary_agreement"] = double(same_hit) / double(primary.size());
     e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
     j["embree"] = e;
@@ -328,6 +394,8 @@ int run_rays(const RaysOptions& a) {
   row("shadow", s1.mrays(shadow.size()), sn.mrays(shadow.size()));
   row("primary, packets of 8", pk1.mrays(primary.size()), pkn.mrays(primary.size()));
   row("shadow, packets of 8", sk1.mrays(shadow.size()), skn.mrays(shadow.size()));
+  row("diffuse bounce (incoherent)", b1.mrays(bounce.size()), bn.mrays(bounce.size()));
+  row("bounce shadow (incoherent)", bs1.mrays(bounce_shadow.size()), bsn.mrays(bounce_shadow.size()));
 #if defined(FRAMELESS_HAVE_EMBREE)
   if (embree_ptr) {
     const EmbreeBench& embree = *embree_ptr;
@@ -342,6 +410,10 @@ int run_rays(const RaysOptions& a) {
     row("ratio packets / intersect8", pk1.mrays(1) / e81.mrays(1), pkn.mrays(1) / e8n.mrays(1));
     row("ratio sh. packets / occl.1", sk1.mrays(1) / es1.mrays(1), skn.mrays(1) / esn.mrays(1));
     row("ratio sh. packets / occl.8", sk1.mrays(1) / es81.mrays(1), skn.mrays(1) / es8n.mrays(1));
+    if (!bounce.empty())
+      row("ratio bounce / intersect1", b1.mrays(1) / eb1.mrays(1), bn.mrays(1) / ebn.mrays(1));
+    if (!bounce_shadow.empty())
+      row("ratio bounce sh. / occl.1", bs1.mrays(1) / ebs1.mrays(1), bsn.mrays(1) / ebsn.mrays(1));
     std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s, build %.1f ms on 1 "
                 "thread, %.1f ms on %d)\n",
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),

@@ -90,10 +90,10 @@ TEST(HemisphereAmbient, NusseltValuesAtKeyAngles) {
 
   Ambient amb;
   amb.kind = AmbientKind::kNone;
-  expect_near(ambient_light(amb, axis), Vec3(0.0f), 0.0f);
+  expect_near(ambient_light(amb, Vec3(0.0f), axis), Vec3(0.0f), 0.0f);
   amb.kind = AmbientKind::kConstant;
   amb.constant = Vec3(0.3f);
-  expect_near(ambient_light(amb, -axis), Vec3(0.3f), 0.0f);
+  expect_near(ambient_light(amb, Vec3(0.0f), -axis), Vec3(0.3f), 0.0f);
 }
 
 // A floor quad at y = 0 with the material under test, seen from (-1, 1, 0) toward the origin

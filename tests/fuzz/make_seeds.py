@@ -266,6 +266,7 @@ def main():
             "settings": {"integrator": "igi", "background": [0.2, 0.3, 0.4], "max_depth": 8,
                          "igi": {"paths": 8, "interleave": 2, "clamp": 0.05},
                          "environment": {"file": "sky.exr", "rotate": 30, "scale": 2}},
+            "ambient": {"type": "irradiance_volume", "resolution": 4, "samples": 16},
             "materials": {"lamp": {"class": "diffuse", "kd": 0.8, "emission": [4, 3, 2]}},
             "lights": [{"type": "spherical", "position": [0, 3, 0], "radius": 0.5}],
             "objects": [{"type": "plane", "point": [0, 2, 0], "normal": [0, -1, 0], "size": 1,

@@ -124,7 +124,7 @@ void parse_settings(const json& j, RenderSettings& r) {
 
 void parse_ambient(const json& j, Ambient& a) {
   require_object(j, "ambient");
-  if (!j.contains("type")) fail("ambient.type", "missing (none, constant or hemisphere)");
+  if (!j.contains("type")) fail("ambient.type", "missing (none, constant, hemisphere or irradiance_volume)");
   const std::string type = get_string(j["type"], "ambient.type");
   if (type == "none") {
     check_keys(j, "ambient", {"type"});
@@ -139,8 +139,13 @@ void parse_ambient(const json& j, Ambient& a) {
     if (j.contains("a")) a.a = get_color(j["a"], "ambient.a");
     if (j.contains("b")) a.b = get_color(j["b"], "ambient.b");
     if (j.contains("axis")) a.axis = get_unit(j["axis"], "ambient.axis");
+  } else if (type == "irradiance_volume") {
+    check_keys(j, "ambient", {"type", "resolution", "samples"});
+    a.kind = AmbientKind::kIrradianceVolume;
+    if (j.contains("resolution")) a.volume_resolution = int(get_int(j["resolution"], "ambient.resolution", 1, 64));
+    if (j.contains("samples")) a.volume_samples = int(get_int(j["samples"], "ambient.samples", 1, 65536));
   } else {
-    fail("ambient.type", "unknown ambient '" + type + "' (none, constant or hemisphere)");
+    fail("ambient.type", "unknown ambient '" + type + "' (none, constant, hemisphere or irradiance_volume)");
   }
 }
 

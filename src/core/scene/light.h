@@ -1,6 +1,9 @@
 // Point and spherical luminaires, and the ambient models of section 3.1.1; read-only, any thread.
 #pragma once
+#include <memory>
+
 #include "core/base/types.h"
+#include "core/scene/irradiance_volume.h"
 
 namespace frameless {
 
@@ -26,16 +29,22 @@ struct Light {
 enum class ShadowMode : uint8_t { kHard, kSoft, kArea };
 const char* shadow_mode_name(ShadowMode m);
 
-enum class AmbientKind : uint8_t { kNone, kConstant, kHemisphere };
+enum class AmbientKind : uint8_t { kNone, kConstant, kHemisphere, kIrradianceVolume };
 
 // Constant ambient l_a, or the two-hemisphere ambient: colour A in the direction of `axis`,
-// colour B opposite, blended by Nusselt's analog as a function of the angle to the axis.
+// colour B opposite, blended by Nusselt's analog as a function of the angle to the axis; or the
+// irradiance volume, l_a(p, n) = E(p, n) / pi.
 struct Ambient {
   AmbientKind kind = AmbientKind::kConstant;
   Vec3 constant{0.1f};
   Vec3 a{0.2f};
   Vec3 b{0.05f};
   Vec3 axis{0.0f, 1.0f, 0.0f};  // unit
+  // Irradiance volume: grid vertices along the scene's longest side, paths per vertex, and the
+  // baked grid (null until core/shading/irradiance_bake.h fills it at load time).
+  int volume_resolution = 12;
+  int volume_samples = 1024;
+  std::shared_ptr<const IrradianceVolume> volume;
 };
 
 }  // namespace frameless

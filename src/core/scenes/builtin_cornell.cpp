@@ -29,12 +29,17 @@ void add_polygon(Scene& s, const Vec3& a, const Vec3& b, const Vec3& c, const Ve
   g.triangle_material.push_back(material);
 }
 
-// A block: its top face and four sides, each as the data lists them.
+// A block: its top face (as the data lists it, facing up) and four sides, each wound to face
+// outwards (the irradiance volume tells inside from outside by the faces rays see).
 void add_block(Scene& s, const Vec3 (&top)[4], uint16_t material) {
   add_polygon(s, top[0], top[1], top[2], top[3], material);
+  const Vec3 centre = 0.25f * (top[0] + top[1] + top[2] + top[3]);
   for (int k = 0; k < 4; ++k) {
-    const Vec3 a = top[k], b = top[(k + 1) % 4];
-    add_polygon(s, Vec3(a.x, 0.0f, a.z), a, b, Vec3(b.x, 0.0f, b.z), material);
+    const Vec3 a = top[k], b = top[(k + 1) % 4], a0(a.x, 0.0f, a.z), b0(b.x, 0.0f, b.z);
+    if (glm::dot(glm::cross(a - a0, b - a0), a - centre) > 0.0f)
+      add_polygon(s, a0, a, b, b0, material);
+    else
+      add_polygon(s, b0, b, a, a0, material);
   }
 }
 

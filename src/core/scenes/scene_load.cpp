@@ -9,6 +9,7 @@
 #include "core/io/sphere_file.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
+#include "core/shading/irradiance_bake.h"
 
 namespace frameless {
 
@@ -84,7 +85,11 @@ Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
 
 // File names and strings from the input appear in errors: keep every message on one line.
 Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
-  return one_line(load_scene_any_text(spec));
+  auto scene = one_line(load_scene_any_text(spec));
+  // The radiosity-based ambient is baked by the path tracer once the scene is finalized.
+  if (scene && (*scene)->ambient.kind == AmbientKind::kIrradianceVolume && !(*scene)->ambient.volume)
+    bake_irradiance_volume(**scene);
+  return scene;
 }
 
 }  // namespace frameless

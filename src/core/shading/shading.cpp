@@ -181,7 +181,7 @@ inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) {
 template <uint32_t F>
 Vec3 shade_diffuse(const ShadeContext& c, const MaterialParams& m, const SurfacePoint& sp) {
   // Equation 1 with k_h = k_s = k_t = 0: k_d (l_a + s l_e n.l).
-  Vec3 light_sum = ambient_light(c.scene.ambient, sp.ns);
+  Vec3 light_sum = ambient_light(c.scene.ambient, sp.p, sp.ns);
   if constexpr ((F & kShadeLights) != 0)
     for_each_visible_light(c, sp, [&](const Vec3& le, const Vec3&, float nl) { light_sum += le * nl; });
   return m.kd * light_sum;
@@ -241,7 +241,7 @@ Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const MaterialParams&
   const Vec3 e = -ray.dir;
   const float en = std::clamp(glm::dot(e, sp.ns), 0.0f, 1.0f);
   const Vec3 ks = schlick(en, m.r0);
-  Vec3 out = m.kd * ambient_light(c.scene.ambient, sp.ns) * (Vec3(1.0f) - ks);
+  Vec3 out = m.kd * ambient_light(c.scene.ambient, sp.p, sp.ns) * (Vec3(1.0f) - ks);
   if constexpr ((F & kShadeLights) != 0) {
     const float view_factor = 1.0f - pow5(1.0f - en);
     const bool highlight = (F & kShadeHighlights) != 0 && max_component(m.kh) > 0.0f;
@@ -365,7 +365,7 @@ Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Ve
   return half_sin * a + (1.0f - half_sin) * b;
 }
 
-Vec3 ambient_light(const Ambient& ambient, const Vec3& n) {
+Vec3 ambient_light(const Ambient& ambient, const Vec3& p, const Vec3& n) {
   switch (ambient.kind) {
     case AmbientKind::kNone:
       return Vec3(0.0f);
@@ -373,6 +373,8 @@ Vec3 ambient_light(const Ambient& ambient, const Vec3& n) {
       return ambient.constant;
     case AmbientKind::kHemisphere:
       return hemisphere_ambient(ambient.a, ambient.b, ambient.axis, n);
+    case AmbientKind::kIrradianceVolume:
+      return ambient.volume ? ambient.volume->irradiance(p, n) * (1.0f / kPi) : Vec3(0.0f);
   }
   return Vec3(0.0f);
 }

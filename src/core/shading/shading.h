@@ -12,8 +12,9 @@ namespace frameless {
 // B at pi, theta the angle between the shading normal n (unit) and the ambient axis.
 Vec3 hemisphere_ambient(const Vec3& a, const Vec3& b, const Vec3& axis, const Vec3& n);
 
-// l_a for shading normal n under any ambient kind (none, constant, hemisphere).
-Vec3 ambient_light(const Ambient& ambient, const Vec3& n);
+// l_a at point p for shading normal n under any ambient kind (none, constant, hemisphere,
+// irradiance volume: E(p, n) / pi, so k_d l_a is what a Lambertian surface reflects of it).
+Vec3 ambient_light(const Ambient& ambient, const Vec3& p, const Vec3& n);
 
 // Radiance along `ray` (unit direction) in the medium `medium` (nullptr: outside every
 // dielectric). depth counts bounces already taken, weight is the ray's accumulated ray-tree weight
