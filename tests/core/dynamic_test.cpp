@@ -174,6 +174,7 @@ TEST(Dynamic, WorldStateRoundTripsAndRejectsBadValues) {
   w.object_position[0] = Vec3(1, 2, 3);
   w.lights[0].color = Vec3(0.25f);
   w.materials[1].kd = Vec3(0.1f, 0.2f, 0.3f);
+  w.materials[1].emission = Vec3(2.0f, 1.0f, 0.5f);
   std::vector<float> flat;
   pack_world(w, flat);
   EXPECT_EQ(flat.size(), world_floats(**scene));
@@ -182,6 +183,7 @@ TEST(Dynamic, WorldStateRoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.object_position[0], Vec3(1, 2, 3));
   EXPECT_EQ(back.lights[0].color, Vec3(0.25f));
   EXPECT_EQ(back.materials[1].kd, Vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(back.materials[1].emission, Vec3(2.0f, 1.0f, 0.5f));
   WorldState keep = back;
   EXPECT_FALSE(unpack_world(flat.data(), flat.size() - 1, back));  // wrong size
   flat[0] = std::nanf("");
@@ -189,6 +191,9 @@ TEST(Dynamic, WorldStateRoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.object_position[0], keep.object_position[0]);  // unchanged on failure
   pack_world(w, flat);
   flat[kObjectFloats + 6] = -1.0f;  // a negative light radius
+  EXPECT_FALSE(unpack_world(flat.data(), flat.size(), back));
+  pack_world(w, flat);
+  flat[flat.size() - 1] = -0.5f;  // a negative emission
   EXPECT_FALSE(unpack_world(flat.data(), flat.size(), back));
 }
 

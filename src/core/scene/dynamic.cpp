@@ -36,6 +36,7 @@ void pack_world(const WorldState& w, std::vector<float>& out) {
     put(m.ks);
     put(m.kh);
     out.push_back(m.phong_exponent);
+    put(m.emission);
   }
 }
 
@@ -50,7 +51,7 @@ bool unpack_world(const float* data, size_t n, WorldState& w) {
   for (size_t i = 0; i < w.lights.size(); ++i, d += kLightFloats)
     if (d[6] < 0.0f) return false;
   for (size_t i = 0; i < w.materials.size(); ++i, d += kMaterialFloats)
-    if (d[9] < 0.0f) return false;
+    if (d[9] < 0.0f || d[10] < 0.0f || d[11] < 0.0f || d[12] < 0.0f) return false;  // exponent, emission
   d = data;
   auto get = [&]() {
     const Vec3 v(d[0], d[1], d[2]);
@@ -68,6 +69,7 @@ bool unpack_world(const float* data, size_t n, WorldState& w) {
     m.ks = get();
     m.kh = get();
     m.phong_exponent = *d++;
+    m.emission = get();  // a lamp turned up or down while you look
   }
   return true;
 }

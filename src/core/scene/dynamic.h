@@ -28,7 +28,7 @@ WorldState initial_world(const Scene& scene);
 // Floats per object, light and material in the flat form the motion channel carries.
 inline constexpr int kObjectFloats = 3;   // base centre
 inline constexpr int kLightFloats = 7;    // position, colour, radius
-inline constexpr int kMaterialFloats = 10;  // kd, ks, kh, phong exponent
+inline constexpr int kMaterialFloats = 13;  // kd, ks, kh, phong exponent, emission
 size_t world_floats(const Scene& scene);
 // Flat form of `w` for a scene with the same counts (world_floats(scene) floats).
 void pack_world(const WorldState& w, std::vector<float>& out);
