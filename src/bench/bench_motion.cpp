@@ -173,7 +173,8 @@ int run_motion(const MotionOptions& options) {
       if (v.find("budget") != std::string::npos) r.mode.display.blend.reproject_budget = float(a.budget);
       r.mode.engine.adaptive.enabled = v.find("adaptive") != std::string::npos;
       // The display's a-trous filter (display/denoise.h) reads each pixel's variance.
-      r.mode.display.blend.denoise = r.mode.engine.track_variance = v.find("denoise") != std::string::npos;
+      const bool denoise = v.find("denoise") != std::string::npos;
+      r.mode.display.blend.denoise = r.mode.engine.track_variance = denoise;
       rows.push_back(r);
     }
     // Equal error at fewer samples: the headline motion settings on half the render threads,
