@@ -144,6 +144,7 @@ Result<Material> MaterialMap::convert(int index) {
     m.cls = MaterialClass::kMetal;
     m.ks = Vec3(base);
     m.ks_tex = *base_tex;
+    m.roughness = float(roughness);  // the path tracer's GGX
   } else {
     m.cls = roughness < 0.5 ? MaterialClass::kPolished : MaterialClass::kDiffuse;
     m.kd = Vec3(base);

@@ -42,6 +42,9 @@ struct MaterialParams {
   float opacity = 1.0f;              // constant alpha (glTF baseColorFactor.a, MTL d)
   float alpha_cutoff = 0.5f;         // alpha below this: the surface is absent for every ray
   float bump_scale = 1.0f;
+  // glTF metallic-roughness metals: their roughness, read by the path tracer as GGX with
+  // alpha = roughness^2 and f0 = k_s (Whitted keeps the Phong lobe derived from it). < 0: none.
+  float roughness = -1.0f;
 
   bool textured() const {
     return kd_tex != kNoTexture || kh_tex != kNoTexture || ks_tex != kNoTexture ||

@@ -51,11 +51,16 @@ Vec3 guide_albedo(const MaterialParams& m) {
   return glm::clamp(a, Vec3(0.0f), Vec3(1.0f));
 }
 
+// A glTF metal: GGX of its roughness instead of a mirror (sampled, so it is smooth).
+inline bool ggx_metal(const MaterialParams& m) { return m.cls == MaterialClass::kMetal && m.roughness >= 0.0f; }
+inline float ggx_alpha(const MaterialParams& m) { return m.roughness * m.roughness; }
+
 bool path_is_smooth(const PathSurface& s) {
-  return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished;
+  return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished || ggx_metal(s.m);
 }
 
 bool path_has_light_lobes(const PathSurface& s) {
+  if (ggx_metal(s.m)) return false;  // GGX sees Parker's lights through next-event estimation
   return s.m.cls == MaterialClass::kMetal ? max_component(s.m.ks) > 0.0f
          : s.m.cls == MaterialClass::kDiffuse ? false
                                               : max_component(s.m.kh) > 0.0f;
@@ -69,6 +74,8 @@ Vec3 path_eval(const PathSurface& s, const Vec3& wi) {
       return lambert_eval(s.m.kd, s.wo, l);
     case MaterialClass::kPolished:
       return coupled_diffuse_eval(s.m.kd, s.m.r0, s.wo, l);
+    case MaterialClass::kMetal:
+      return ggx_metal(s.m) ? ggx_eval(s.m.ks, ggx_alpha(s.m), s.wo, l) : Vec3(0.0f);
     default:
       return Vec3(0.0f);
   }
@@ -89,6 +96,8 @@ float path_pdf(const PathSurface& s, const Vec3& wi) {
       return lambert_pdf(s.wo, l);
     case MaterialClass::kPolished:
       return (1.0f - coat_probability(s)) * lambert_pdf(s.wo, l);
+    case MaterialClass::kMetal:
+      return ggx_metal(s.m) ? ggx_pdf(ggx_alpha(s.m), s.wo, l) : 0.0f;
     default:
       return 0.0f;
   }
@@ -105,6 +114,13 @@ bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter
       break;
     }
     case MaterialClass::kMetal:
+      if (ggx_metal(s.m)) {
+        const BsdfSample b = ggx_sample(s.m.ks, ggx_alpha(s.m), s.wo, u1, u2);
+        out.wi = s.frame.to_world(b.wi);
+        out.weight = b.weight;
+        out.pdf = b.pdf;
+        break;
+      }
       out.wi = mirror_world(s);
       out.weight = s.m.ks;
       out.delta = true;

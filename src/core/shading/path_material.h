@@ -1,6 +1,6 @@
 // Parker's four material classes read physically, for the path tracer (docs/global-illumination.md):
 //   diffuse    -> Lambertian, albedo k_d;
-//   metal      -> a mirror tinted by k_s;
+//   metal      -> a mirror tinted by k_s (glTF metals with a roughness: GGX, f0 = k_s);
 //   dielectric -> Schlick-weighted mirror reflection and refraction (Beer absorption on the way);
 //   polished   -> the coupled model of Shirley et al. 1997 under a Schlick coat of reflectance r0.
 // Parker's highlights (metal's k_s, k_h of the other classes, exponent N) stand in for the mirror

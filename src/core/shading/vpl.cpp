@@ -128,7 +128,7 @@ void generate_vpls(const Scene& scene, const DynamicFrame* frame, const SceneSph
       if (bounce == 0 && st.per_d2) flux *= glm::dot(sp.p - ray.org, sp.p - ray.org);
       const MaterialParams m = material_at(scene, frame, ray, hit, sp);
       const PathSurface s = make_path_surface(m, sp, -ray.dir);
-      if (path_is_smooth(s)) {
+      if (path_is_smooth(s) && m.cls != MaterialClass::kMetal) {  // metals pass light on
         const Vec3 albedo = vpl_albedo(m);
         out.push_back(Vpl{sp.p, sp.ng, flux * albedo});
         // Roulette by the albedo, then a cosine-weighted bounce.
