@@ -23,6 +23,21 @@ uint32_t EmitterTable::find(uint32_t prim) const {
   return it != prims.end() && *it == prim ? uint32_t(it - prims.begin()) : kInvalidId;
 }
 
+TrianglePoint triangle_point(const Scene& scene, uint32_t prim, float u1, float u2) {
+  const Geometry& g = scene.geometry;
+  const UVec3 tri = g.triangles[prim];
+  const Vec3 a = g.positions[tri.x], b = g.positions[tri.y], c = g.positions[tri.z];
+  TrianglePoint t;
+  const float su = std::sqrt(u1);
+  t.u = u2 * su;
+  t.v = 1.0f - su;
+  t.p = a + t.u * (b - a) + t.v * (c - a);
+  t.n = glm::normalize(glm::cross(b - a, c - a));
+  const Vec3 m = glm::max(glm::abs(a), glm::max(glm::abs(b), glm::abs(c)));
+  t.scale = std::max(m.x, std::max(m.y, m.z));
+  return t;
+}
+
 EmitterTable build_emitter_table(const Scene& scene) {
   EmitterTable t;
   const Geometry& g = scene.geometry;

@@ -28,6 +28,16 @@ struct EmitterTable {
   uint32_t find(uint32_t prim) const;
 };
 
+// A point uniformly distributed over triangle `prim` from (u1, u2) in [0, 1)^2: the point, the
+// triangle's unit geometric normal (its winding's) and the barycentrics of vertices 1 and 2 (a
+// Hit's u, v), with which the light samplers and the light paths start alike.
+struct TrianglePoint {
+  Vec3 p{0.0f}, n{0.0f};
+  float u = 0.0f, v = 0.0f;
+  float scale = 0.0f;  // largest vertex coordinate magnitude (as SurfacePoint::scale)
+};
+TrianglePoint triangle_point(const Scene& scene, uint32_t prim, float u1, float u2);
+
 // The table for the scene's current geometry and materials (call after the accel build, which
 // permutes triangles).
 EmitterTable build_emitter_table(const Scene& scene);

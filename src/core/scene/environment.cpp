@@ -10,11 +10,6 @@ namespace {
 
 inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-inline float srgb_to_linear(uint8_t b) {
-  const float c = float(b) / 255.0f;
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
 // Index i with cdf[i-1] <= u < cdf[i] (cdf[-1] = 0) among n entries, and u's place inside it.
 int pick(const float* cdf, int n, float u, float& frac) {
   const int i = int(std::min<ptrdiff_t>(std::upper_bound(cdf, cdf + n, u) - cdf, n - 1));
@@ -43,7 +38,7 @@ Result<std::shared_ptr<const EnvironmentMap>> EnvironmentMap::make(const Image& 
     float c[3];
     for (int k = 0; k < 3; ++k) {
       const size_t at = i * size_t(image.channels) + size_t(std::min(k, colour - 1));
-      c[k] = !image.hdr.empty() ? image.hdr[at] : srgb_to_linear(image.ldr[at]);
+      c[k] = !image.hdr.empty() ? image.hdr[at] : srgb8_to_linear(image.ldr[at]);
       if (!std::isfinite(c[k]) || c[k] < 0.0f)
         return Error{image.path + ": texel " + std::to_string(i % size_t(w)) + "," +
                      std::to_string(i / size_t(w)) + " is " + (std::isfinite(c[k]) ? "negative" : "not finite") +

@@ -206,4 +206,6 @@ Vec4 sample_texture(const Texture& tex, const TexturePoint& at) {
   }
 }
 
+float srgb8_to_linear(uint8_t b) { return kSrgbToLinear[b]; }
+
 }  // namespace frameless

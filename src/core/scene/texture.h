@@ -62,6 +62,8 @@ Vec4 sample_texture(const Texture& tex, const TexturePoint& at);
 
 // Perlin's improved noise (2002) in [-1, 1] and turbulence sum |noise| over octaves.
 float perlin_noise(const Vec3& p);
+// An sRGB-encoded byte as a linear value (IEC 61966-2-1; the table image textures use).
+float srgb8_to_linear(uint8_t b);
 float turbulence(const Vec3& p, int octaves);
 
 }  // namespace frameless

@@ -53,6 +53,11 @@ Vec3 sample_cosine_hemisphere(float u1, float u2) {
   return Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1)));
 }
 
+Vec3 sample_uniform_sphere(float u1, float u2) {
+  const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
 Vec3 lambert_eval(const Vec3& albedo, const Vec3& wo, const Vec3& wi) {
   return above(wo) && above(wi) ? albedo * kInvPi : Vec3(0.0f);
 }

@@ -18,6 +18,8 @@ struct BsdfSample {
 
 // Cosine-weighted hemisphere direction from (u1, u2) in [0, 1)^2 (Malley's method).
 Vec3 sample_cosine_hemisphere(float u1, float u2);
+// Uniform direction on the unit sphere from (u1, u2) in [0, 1)^2 (density 1 / (4 pi)).
+Vec3 sample_uniform_sphere(float u1, float u2);
 
 // Diffuse: Lambertian, f = albedo / pi.
 Vec3 lambert_eval(const Vec3& albedo, const Vec3& wo, const Vec3& wi);

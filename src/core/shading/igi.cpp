@@ -96,7 +96,7 @@ Vec3 vpl_light(const Scene& scene, const DynamicFrame* frame, const PathSurface&
 
 Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, uint32_t sample_index,
                uint64_t seed, const DynamicFrame* frame, const Hit* known_hit, Hit* first_hit,
-               SurfacePoint* first_point, int* bounces) {
+               SurfacePoint* first_point, int* bounces, Vec3* first_albedo) {
   const IgiSettings& g = scene.settings.igi;
   DirectLight st{scene, frame, LightStrategy::kLightOnly, Rng(seed), environment_emits(scene), false};
   const int n = std::max(1, g.interleave);
@@ -120,6 +120,7 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
     if (max_component(extinction) > 0.0f) beta *= beer(extinction, glm::length(sp.p - ray.org));
     const MaterialParams m = material_at(scene, frame, ray, hit, sp);
     if (bounce == 0 && first_point) *first_point = sp;
+    if (bounce == 0 && first_albedo) *first_albedo = guide_albedo(m);
     radiance += beta * m.emission;
     const PathSurface s = make_path_surface(m, sp, -ray.dir);
     const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);

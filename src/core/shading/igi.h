@@ -14,6 +14,7 @@ namespace frameless {
 // set (set = sample_index * interleave^2 + class). Other arguments as trace_path.
 Vec3 trace_igi(const Scene& scene, const Ray& ray, float px, float py, uint32_t sample_index,
                uint64_t seed, const DynamicFrame* frame = nullptr, const Hit* known_hit = nullptr,
-               Hit* first_hit = nullptr, SurfacePoint* first_point = nullptr, int* bounces = nullptr);
+               Hit* first_hit = nullptr, SurfacePoint* first_point = nullptr, int* bounces = nullptr,
+               Vec3* first_albedo = nullptr);
 
 }  // namespace frameless

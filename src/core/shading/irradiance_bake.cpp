@@ -8,6 +8,7 @@
 #include "core/base/rng.h"
 #include "core/base/sobol.h"
 #include "core/geometry/geometry.h"
+#include "core/shading/bsdf.h"
 #include "core/shading/path_tracer.h"
 
 namespace frameless {
@@ -40,10 +41,9 @@ double bake_irradiance_volume(Scene& scene) {
         for (int s = 0; s < m; ++s) {
           float u1, u2;  // stratified directions (Owen-scrambled Sobol')
           owen_sobol_2d(uint32_t(s), mix64(idx ^ scene.settings.seed), u1, u2);
-          const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
           Ray ray;
           ray.org = v->vertex(i, j, k);
-          ray.dir = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+          ray.dir = sample_uniform_sphere(u1, u2);
           SurfacePoint sp;
           Hit hit;
           const Vec3 radiance = trace_path(scene, ray, mix64(idx << 20 | uint64_t(s)), nullptr, nullptr, &hit, &sp);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/geometry/shading_frame.h"
+#include "core/shading/bsdf.h"
 #include "core/scene/texturing.h"
 
 namespace frameless {
@@ -94,25 +95,21 @@ bool sample_emitter(const Scene& scene, const DynamicFrame* frame, const Vec3& p
   const uint32_t index = table.pick(u0);
   const uint32_t prim = table.prims[index];
   const Geometry& g = scene.geometry;
-  const UVec3 tri = g.triangles[prim];
-  const Vec3 a = g.positions[tri.x], b = g.positions[tri.y], c = g.positions[tri.z];
-  // Uniform over the triangle (barycentrics of vertices 1 and 2: the Hit's u, v).
-  const float su = std::sqrt(u1);
-  const float bu = u2 * su, bv = 1.0f - su;
-  const Vec3 q = a + bu * (b - a) + bv * (c - a);
+  const TrianglePoint tp = triangle_point(scene, prim, u1, u2);
+  const Vec3 q = tp.p;
+  const float bu = tp.u, bv = tp.v;
   const Vec3 to = q - p;
   const float dist2 = glm::dot(to, to);
   if (!(dist2 > 0.0f)) return false;
   const float dist = std::sqrt(dist2);
   out.wi = to / dist;
-  Vec3 n = glm::normalize(glm::cross(b - a, c - a));
+  Vec3 n = tp.n;
   out.pdf = emitter_pdf(scene, index, out.wi, n, dist);
   if (!(out.pdf > 0.0f) || !std::isfinite(out.pdf)) return false;
   // End the shadow ray at q moved off the emitter towards p by the triangle's rounding scale,
   // so neither the emitter itself nor a blocker next to it is misjudged at any scene scale.
   if (glm::dot(n, out.wi) > 0.0f) n = -n;
-  const Vec3 m3 = glm::max(glm::abs(a), glm::max(glm::abs(b), glm::abs(c)));
-  out.tmax = glm::dot(offset_ray_origin(q, n, std::max(m3.x, std::max(m3.y, m3.z))) - p, out.wi);
+  out.tmax = glm::dot(offset_ray_origin(q, n, tp.scale) - p, out.wi);
   if (!(out.tmax > 0.0f)) return false;
   const uint16_t id = prim < g.triangle_material.size() ? g.triangle_material[prim] : 0;
   MaterialParams m = frame_material(scene, frame, id);
@@ -150,10 +147,7 @@ bool sample_environment(const Scene& scene, float u1, float u2, LightSample& out
     out.radiance = env->radiance(out.wi);
     return true;
   }
-  const float z = 1.0f - 2.0f * u1;
-  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPi * u2;
-  out.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  out.wi = sample_uniform_sphere(u1, u2);
   out.radiance = scene.settings.background;
   out.pdf = kUniformSpherePdf;
   return true;

@@ -23,7 +23,7 @@ constexpr float kMaxSurvival = 0.95f;
 
 Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const DynamicFrame* frame,
                 const Hit* known_hit, Hit* first_hit, SurfacePoint* first_point, int* bounces,
-                const PathOptions& options) {
+                const PathOptions& options, Vec3* first_albedo) {
   DirectLight st{scene, frame, options.strategy, Rng(seed), environment_emits(scene), false};
   for (const Light& l : frame_lights(scene, frame)) st.extended_lights |= l.has_extent();
   const int max_bounces = options.max_bounces >= 0 ? options.max_bounces : scene.settings.max_depth;
@@ -66,6 +66,7 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     if (max_component(extinction) > 0.0f) beta *= beer(extinction, glm::length(sp.p - ray.org));
     const MaterialParams m = material_at(scene, frame, ray, hit, sp);
     if (bounce == 0 && first_point) *first_point = sp;
+    if (bounce == 0 && first_albedo) *first_albedo = guide_albedo(m);
     if (max_component(m.emission) > 0.0f) {
       float w = 1.0f;  // seen from the camera, a mirror, or an emitter light sampling cannot pick
       const uint32_t index = !smooth_bounce || hit.inst != kInvalidId || is_dynamic_prim(hit.prim)

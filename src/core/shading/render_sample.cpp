@@ -7,7 +7,6 @@
 #include "core/base/rng.h"
 #include "core/base/sobol.h"
 #include "core/scene/scene_analysis.h"
-#include "core/shading/direct_light.h"
 #include "core/shading/igi.h"
 #include "core/shading/path_tracer.h"
 #include "core/shading/shading.h"
@@ -23,9 +22,10 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
   SurfacePoint sp;
   int levels = 0;
   if (scene.settings.integrator == Integrator::kPath) {
-    out.color = trace_path(scene, ray, rng_seed, frame, known_hit, &hit, &sp, &levels);
+    out.color = trace_path(scene, ray, rng_seed, frame, known_hit, &hit, &sp, &levels, {}, &out.albedo);
   } else if (scene.settings.integrator == Integrator::kIgi) {
-    out.color = trace_igi(scene, ray, px, py, sample_index, rng_seed, frame, known_hit, &hit, &sp, &levels);
+    out.color = trace_igi(scene, ray, px, py, sample_index, rng_seed, frame, known_hit, &hit, &sp,
+                          &levels, &out.albedo);
   } else {
     // The shading path is chosen once per sample from the scene's features and skips.
     out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
@@ -33,10 +33,6 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
                                     &levels);
   }
   out.levels = uint8_t(std::min(levels, 255));
-  if (hit.valid() && scene.settings.integrator >= Integrator::kPath) {
-    SurfacePoint tsp = sp;  // material_at may perturb it
-    out.albedo = guide_albedo(material_at(scene, frame, ray, hit, tsp));
-  }
   if (hit.valid()) {
     out.depth = hit.t;  // ray.dir is unit, so t is the distance from the eye
     out.normal = sp.ns;

@@ -26,11 +26,6 @@ float radical_inverse(uint64_t i, uint32_t base) {
   return float(std::min(r, 0x1.fffffep-1));
 }
 
-Vec3 uniform_sphere(float u1, float u2) {
-  const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
-  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
-}
-
 // A point on the unit disk (polar mapping).
 Vec2 unit_disk(float u1, float u2) {
   const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
@@ -88,7 +83,7 @@ void generate_vpls(const Scene& scene, const DynamicFrame* frame, const SceneSph
         st.flux = kPi * l.color * (kPi * sphere.radius * sphere.radius) * scale;
       } else {  // Parker's irradiance pi l_e at any distance: flux grows with d^2 (light_sampling.h)
         st.ray.org = l.position;
-        st.ray.dir = uniform_sphere(u[1], u[2]);
+        st.ray.dir = sample_uniform_sphere(u[1], u[2]);
         st.flux = 4.0f * kPi * kPi * l.color * scale;
         st.per_d2 = true;
       }
@@ -98,15 +93,11 @@ void generate_vpls(const Scene& scene, const DynamicFrame* frame, const SceneSph
       const float pmf = t.pmf(i);
       if (!(pmf > 0.0f)) continue;
       const Geometry& geo = scene.geometry;
-      const UVec3 tri = geo.triangles[t.prims[i]];
-      const Vec3 a = geo.positions[tri.x], b = geo.positions[tri.y], c = geo.positions[tri.z];
-      const float su = std::sqrt(u[2]);
-      const Vec3 q = a + (u[3] * su) * (b - a) + (1.0f - su) * (c - a);
-      Vec3 n = glm::normalize(glm::cross(b - a, c - a));
-      if (rng.next_float() < 0.5f) n = -n;  // both sides emit
+      const TrianglePoint tp = triangle_point(scene, t.prims[i], u[2], u[3]);
+      const Vec3 n = rng.next_float() < 0.5f ? -tp.n : tp.n;  // both sides emit
       const uint16_t id = t.prims[i] < geo.triangle_material.size() ? geo.triangle_material[t.prims[i]] : 0;
       const Vec3 le = frame_material(scene, frame, id).emission;
-      st.ray.org = offset_ray_origin(q, n);
+      st.ray.org = offset_ray_origin(tp.p, n, tp.scale);
       st.ray.dir = make_shading_frame(n).to_world(sample_cosine_hemisphere(u[4], rng.next_float()));
       st.flux = le * (2.0f * kPi * t.area[i] / pmf) * scale;  // L pi A x 2 sides / pmf
     } else {  // the environment: towards a sampled direction, from a disk outside everything
