@@ -18,11 +18,15 @@ void conventional_range(Engine::Impl& e, int t, const FrameState& f, size_t begi
   FramelessWorker& w = e.workers[size_t(t)];
   if (w.frame_serial != f.serial) {
     w.moving = !e.scene.dynamic.empty() || f.world_epoch > 1 || f.instances;
+    w.animated = !e.scene.dynamic.empty();
+    // A frame whose world differs from the previous frame's settles (frameless/engine_impl.h).
+    w.settle_left = f.world_epoch != w.world_epoch || f.instances != w.frame.instances ? 1 : 0;
+    w.world_epoch = f.world_epoch;
     if (w.moving) evaluate_frame(e.scene, f.world, f.time, w.frame);
     w.frame.instances = f.instances;
     w.frame_serial = f.serial;
   }
-  const DynamicFrame* world = w.moving ? &w.frame : nullptr;
+  const History history = w.history();
   // Consecutive pixels of a tile row as batches; the frame's world stays at one instant.
   PacketBatch b;
   for (size_t i = begin; i < end;) {  // in conventional mode slot i holds job_pixels[i]
@@ -35,7 +39,7 @@ void conventional_range(Engine::Impl& e, int t, const FrameState& f, size_t begi
     }
     trace_batch(e, b, f.basis, w.moving ? &w.frame : nullptr, nullptr);
     for (int k = 0; k < b.n; ++k)
-      finish_update(e, b.idx[k], *b.state[k], f.epoch, float(b.t[k]), ctr, b.frame[k], world, b.r[k]);
+      finish_update(e, b.idx[k], *b.state[k], f.epoch, float(b.t[k]), ctr, b.frame[k], history, b.r[k]);
     if (out)  // this thread wrote the states: relaxed reads are exact
       for (int k = 0; k < b.n; ++k) out[first + size_t(k) - begin] = record_of(e, *b.state[k], b.idx[k]);
   }

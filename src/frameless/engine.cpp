@@ -160,6 +160,8 @@ void Engine::start() {
       evaluate_frame(e.scene, w.world, e.now(), w.frame);
       e.pick_up_instances(w.instances_epoch, w.frame.instances);
       w.moving = !e.scene.dynamic.empty() || w.world_epoch > 1 || w.frame.instances;
+      w.animated = !e.scene.dynamic.empty();
+      w.settle_left = 0;
     }
     e.frame = FrameState{};
     e.frame.world = initial_world(e.scene);

@@ -31,6 +31,13 @@ struct alignas(64) ThreadCounters {
   std::atomic<uint64_t> busy_ns{0};  // the thread's CPU time since start (sampled, not per update)
 };
 
+// How a pixel's running statistics treat their history when the world may have changed.
+enum class History : uint8_t {
+  kStill,     // nothing ever changed but the camera: plain running mean
+  kTracked,   // the world changed before: keep the variance the temporal rule will need
+  kTemporal,  // the world moves now (or just changed): the temporal rule decides what to keep
+};
+
 // A frameless render thread's private walking state (owned by that thread).
 struct FramelessWorker {
   int index = 0;
@@ -55,6 +62,15 @@ struct FramelessWorker {
   uint64_t frame_serial = ~uint64_t(0);  // conventional: the frame serial `frame` was evaluated for
   uint32_t instances_epoch = 1;          // moved instances in frame.instances (1: as built)
   bool moving = false;
+  // After a world change every pixel of the list gets one update under the temporal rule (those
+  // whose sample disagrees restart, the rest keep a short history); then the means accumulate
+  // again without a cap, so they converge to the changed world. Dynamic objects keep the rule on.
+  uint64_t settle_left = 0;
+  bool animated = false;  // the scene has dynamic objects: they move with time, always
+  History history() const {
+    if (animated || settle_left > 0) return History::kTemporal;
+    return moving ? History::kTracked : History::kStill;
+  }
   // Closed-loop sampling: the runs asked for and not yet rendered, served front to back, and the
   // generation of the display's asks last scanned.
   struct AskedRun {

@@ -59,11 +59,11 @@ inline void prepare_samples(const Engine::Impl& e, uint32_t idx, uint32_t passes
 
 // The statistics and the publish of one pixel update of pixel `idx`, whose state is `p`, from
 // its traced samples r[0..spu): Welford per sample, publish under the pixel's sequence lock.
-// `frame` (conventional) also receives the published snapshot. `world` (null when nothing
-// moves) is what the samples saw of dynamic objects, lights and materials.
+// `frame` (conventional) also receives the published snapshot. `history` says whether the world
+// (dynamic objects, lights, materials) moves, so that old samples may no longer hold.
 inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t epoch,
                           float time, ThreadCounters& ctr, PixelSnapshot* frame,
-                          const DynamicFrame* world, const SampleResult* r) {
+                          History history, const SampleResult* r) {
   const uint32_t passes = p.passes.load(std::memory_order_relaxed);
   const int spu = e.cfg.jitter ? 2 : 1;
   Vec3 colors[2];
@@ -96,9 +96,9 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
   uint32_t count = same_epoch ? p.count.load(std::memory_order_relaxed) : 0u;
   double mean[3], m2 = 0.0;
   for (int c = 0; c < 3; ++c) mean[c] = same_epoch ? p.mean[c].load(std::memory_order_relaxed) : 0.0;
-  const bool variance = tracks_variance(e.cfg) || world;
+  const bool variance = tracks_variance(e.cfg) || history != History::kStill;
   if (same_epoch && variance) m2 = p.m2.load(std::memory_order_relaxed);
-  if (world && count > 0) {
+  if (history == History::kTemporal && count > 0) {
     // Something moves: the display's temporal rule (frameless/temporal_weight.h) sets how much
     // history the pixel keeps. Where the sample agrees, a long one: at most motion_history
     // samples, so the mean forgets (an exponential average); where it clearly differs, none (the

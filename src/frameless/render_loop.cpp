@@ -26,7 +26,10 @@ inline void log_update(const Engine::Impl& e, FramelessWorker& w, uint32_t idx, 
 
 // Picks up the newest world state (dynamic objects, lights, materials, moved instances) if it changed.
 void refresh_world(Engine::Impl& e, FramelessWorker& w, double time) {
-  if (e.pick_up_instances(w.instances_epoch, w.frame.instances)) w.moving = true;
+  if (e.pick_up_instances(w.instances_epoch, w.frame.instances)) {
+    w.moving = true;
+    w.settle_left = w.pixels->size();
+  }
   if (e.world_channel.epoch() == w.world_epoch) return;
   const uint32_t ep = e.world_channel.read(w.world_buf);
   // The channel carries only what the engine published after checking it: it always fits.
@@ -34,6 +37,7 @@ void refresh_world(Engine::Impl& e, FramelessWorker& w, double time) {
   evaluate_frame(e.scene, w.world, time, w.frame);
   w.world_epoch = ep;
   w.moving = true;
+  w.settle_left = w.pixels->size();
 }
 
 // Picks up the newest camera if it changed.
@@ -96,9 +100,9 @@ uint64_t serve_asked(Engine::Impl& e, FramelessWorker& w, ThreadCounters& ctr, d
     ++b.n;
   }
   trace_batch(e, b, w.basis, w.moving ? &w.frame : nullptr, &w.world);
+  const History history = w.history();
   for (int k = 0; k < b.n; ++k) {
-    finish_update(e, b.idx[k], *b.state[k], w.epoch, float(b.t[k]), ctr, nullptr,
-                  w.moving ? &w.frame : nullptr, b.r[k]);
+    finish_update(e, b.idx[k], *b.state[k], w.epoch, float(b.t[k]), ctr, nullptr, history, b.r[k]);
     log_update(e, w, b.idx[k], float(b.t[k]));
   }
   e.priority_rings[w.index].push(uint32_t(w.first_slot + pos0));  // after the publishes
@@ -123,11 +127,14 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
   int m = 0;
   auto flush = [&] {
     if (b.n > 0) trace_batch(e, b, w.basis, w.moving ? &w.frame : nullptr, &w.world);
+    const History history = w.history();
+    // Visits, adaptive skips included, count toward the settling pass (one per list position).
+    w.settle_left -= std::min<uint64_t>(w.settle_left, uint64_t(m));
     for (int k = 0; k < m; ++k) {
       const int slot = entries[k];
       if (slot >= 0) {
         finish_update(e, b.idx[slot], *b.state[slot], w.epoch, float(b.t[slot]), ctr, nullptr,
-                      w.moving ? &w.frame : nullptr, b.r[slot]);
+                      history, b.r[slot]);
         log_update(e, w, b.idx[slot], float(b.t[slot]));
       }
       // The display derives which pixels changed from this counter: publish after the pixel.
@@ -158,7 +165,9 @@ void run_visits(Engine::Impl& e, FramelessWorker& w, uint64_t count, double t_be
     const bool wrapped = ++w.pos == n;
     if (wrapped) w.pos = 0;
     bool skip = false;
-    if constexpr (kAdaptive) skip = adaptive_skip(e.cfg.adaptive, p, w.epoch, w.adaptive.skip_run[pos]);
+    // No pixel skips its settling update: its old statistics may not hold in the changed world.
+    if constexpr (kAdaptive)
+      skip = w.settle_left == 0 && adaptive_skip(e.cfg.adaptive, p, w.epoch, w.adaptive.skip_run[pos]);
     if (skip) {
       entries[m++] = -1;
     } else {
