@@ -126,6 +126,22 @@ TEST(Environment, WhittedSeesTheMapWhereRaysEscape) {
   EXPECT_EQ(down, Vec3(1.0f));
 }
 
+TEST(Environment, RadianceHdrMapsLoadLikeExr) {
+  // A 4 x 2 .hdr (flat scanlines): the top row (64, 96, 128 | e 131), the bottom (128 x 3 | e 128).
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) hdr += y == 0 ? std::string{64, 96, char(128), char(131)} : std::string(4, char(128));
+  const std::string file = (dir() / "rows.hdr").string();
+  { std::ofstream(file, std::ios::binary) << hdr; }
+  auto s = scene_with(R"({"file":")" + file + R"(","scale":2})", kSpeck);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  (*s)->settings.integrator = Integrator::kWhitted;
+  const Vec3 up = trace_radiance(**s, make_ray(Vec3(0), Vec3(0.1f, 1, 0)), 0, Vec3(1.0f), nullptr);
+  const Vec3 down = trace_radiance(**s, make_ray(Vec3(0), Vec3(0.1f, -1, 0)), 0, Vec3(1.0f), nullptr);
+  EXPECT_EQ(up, 2.0f * Vec3(64.5f, 96.5f, 128.5f) / 32.0f);  // (m + 0.5) 2^(e - 136), times scale
+  EXPECT_EQ(down, 2.0f * Vec3(128.5f / 256.0f));
+}
+
 TEST(Environment, BadFilesAndFieldsGiveOneLineErrors) {
   const std::string neg = write_map("neg.exr", 4, 2, [](int x, int, int) { return x == 1 ? -1.0f : 1.0f; });
   const std::string nan = write_map("nan.exr", 4, 2, [](int x, int, int) {

@@ -246,6 +246,24 @@ def scene_textures():
     return json.dumps(doc, separators=(",", ":")).encode()
 
 
+def hdr_rle_8x2():
+    """A bottom-up 8x2 Radiance HDR body (after the #?RADIANCE line) with new-style runs and literals."""
+    body = b"FORMAT=32-bit_rle_rgbe\nEXPOSURE=2\n\n+Y 2 +X 8\n"
+    for row in range(2):
+        body += bytes([2, 2, 0, 8])
+        for c in range(4):
+            body += bytes([128 + 5, 100 + c + row]) + bytes([3, 7, 9, 11])  # a run of 5, 3 literals
+    return body
+
+
+def hdr_flat_repeats_2x3():
+    """A 2x3 Radiance HDR body with flat pixels and an old-style repeat."""
+    body = b"-Y 3 +X 2\n"
+    body += bytes([64, 96, 128, 131, 1, 1, 1, 1])  # a pixel and one repeat
+    body += bytes([0, 0, 0, 0, 10, 20, 30, 128]) + bytes([255, 0, 0, 140, 1, 1, 1, 1])
+    return b"\n" + body
+
+
 def main():
     seeds = {
         "gltf_triangle": bytes([GLTF]) + gltf_text(),
@@ -275,6 +293,8 @@ def main():
         "image_png_rgba": bytes([IMAGE, 0]) + png_rgba_4x4()[len(PNG_MAGIC):],
         "image_png_palette": bytes([IMAGE, 0]) + png_palette_trns_2x2()[len(PNG_MAGIC):],
         "image_png_gray16_adam7": bytes([IMAGE, 0]) + png_gray16_interlaced_3x3()[len(PNG_MAGIC):],
+        "image_hdr_rle": bytes([IMAGE, 4]) + hdr_rle_8x2(),
+        "image_hdr_flat_repeats": bytes([IMAGE, 4]) + hdr_flat_repeats_2x3(),
         "scene_textures": bytes([SCENE_TEX]) + scene_textures(),
     }
     for name, data in seeds.items():

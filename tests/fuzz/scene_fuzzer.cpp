@@ -10,7 +10,8 @@
 //      parser has no entry point of its own); the folder holds t.png (RGBA) and g.png (grey)
 //      for map statements
 //   6  image (decode_image): the second byte picks a magic put in front of the rest, so that
-//      mutations stay inside one decoder: 0 PNG, 1 JPEG, 2 OpenEXR, 3 none (the bytes as given)
+//      mutations stay inside one decoder: 0 PNG, 1 JPEG, 2 OpenEXR, 3 none (the bytes as given),
+//      4 Radiance HDR
 //   7  JSON scene whose base folder is the work folder, so "textures" entries naming t.png or
 //      g.png load
 //   8  POV-Ray bicubic_patch text (parse_bicubic_patches); patches that load are built at depth 2
@@ -366,10 +367,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (const auto r = decode_image(input, "fuzz.img"); !r) check_error(r.error());
         break;
       }
-      static const std::string kMagic[4] = {std::string("\x89PNG\r\n\x1a\n", 8),
+      static const std::string kMagic[5] = {std::string("\x89PNG\r\n\x1a\n", 8),
                                             std::string("\xff\xd8\xff", 3),
-                                            std::string("\x76\x2f\x31\x01", 4), std::string()};
-      const std::string bytes = kMagic[uint8_t(input[0]) % 4] + input.substr(1);
+                                            std::string("\x76\x2f\x31\x01", 4), std::string(),
+                                            std::string("#?RADIANCE\n")};
+      const std::string bytes = kMagic[uint8_t(input[0]) % 5] + input.substr(1);
       auto r = decode_image(bytes, "fuzz.img");
       if (!r) {
         check_error(r.error());

@@ -1,4 +1,4 @@
-// Texture image decoding (PNG, JPEG, OpenEXR, told apart by magic bytes) and the per-file cache.
+// Texture image decoding (PNG, JPEG, OpenEXR, Radiance HDR, told apart by magic bytes) and the per-file cache.
 // Libraries never print or exit: their messages become one-line Errors naming the file.
 #include "core/io/image_io.h"
 
@@ -26,6 +26,7 @@
 #include <ImfInputFile.h>
 
 #include "core/io/file_util.h"
+#include "core/io/image_rgbe.h"
 
 namespace frameless {
 namespace {
@@ -359,7 +360,8 @@ Result<std::shared_ptr<const Image>> decode_image(const std::string& bytes,
     if (bytes.size() < 8) return fail(path, "invalid EXR: file is truncated");
     return decode_exr(bytes, path);
   }
-  return fail(path, "unknown image format (expected PNG, JPEG or OpenEXR)");
+  if (looks_like_rgbe(bytes)) return decode_rgbe(bytes, path);
+  return fail(path, "unknown image format (expected PNG, JPEG, OpenEXR or Radiance HDR)");
 }
 
 Result<std::shared_ptr<const Image>> load_image(const std::string& path) {

@@ -1,4 +1,4 @@
-// Image files for textures: PNG, JPEG and OpenEXR decoded into core/scene/texture.h's Image, and
+// Image files for textures: PNG, JPEG, OpenEXR and Radiance HDR decoded into core/scene/texture.h's Image, and
 // the cache that shares them between materials (loading thread).
 #pragma once
 #include <memory>
@@ -11,7 +11,7 @@
 
 namespace frameless {
 
-// Decodes a PNG, JPEG or OpenEXR file (by content, not extension). Refuses images larger than
+// Decodes a PNG, JPEG, OpenEXR or Radiance HDR file (by content, not extension). Refuses images larger than
 // kMaxTexturePixels before allocating. Errors name the file and what is wrong, on one line.
 inline constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 26;  // 64 Mpixel (8192 x 8192)
 Result<std::shared_ptr<const Image>> load_image(const std::string& path);
