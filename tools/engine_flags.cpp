@@ -37,6 +37,9 @@ void EngineFlags::add_to(CLI::App& app) {
   app.add_flag("--denoise", denoise,
                "show the image through an edge-avoiding a-trous filter guided by normals, positions "
                "and albedo (for noisy light: --integrator path or igi)");
+  app.add_flag("--no-discontinuity", no_discontinuity,
+               "igi: show the indirect light without OpenRT's discontinuity buffer (the same-surface "
+               "average over the interleaving pattern's n x n window)");
   app.add_flag("--adaptive", adaptive,
                "adaptive frameless sampling: skip converged pixels (at most 7 visits in a row)");
 }
@@ -75,6 +78,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   e.max_samples_per_s = max_samples_per_s;
   blend.temporal = temporal;
   blend.denoise = denoise;
+  blend.discontinuity = !no_discontinuity;
   if (denoise) e.track_variance = true;  // the filter's luminance weights read it
   return true;
 }

@@ -28,6 +28,7 @@ struct EngineFlags {
   bool no_packets = false;
   bool adaptive = false;
   bool denoise = false;
+  bool no_discontinuity = false;
   void add_to(CLI::App& app);
   // Fills the engine and blend settings; false with a one-line message for a bad mode or alpha.
   // The caller still runs validate(engine) once it has set its own fields.

@@ -182,16 +182,21 @@ int run_gi(const GiOptions& options) {
       const char* name;
       const Scene* scene;
       bool denoise;
+      bool discontinuity;  // igi: OpenRT's discontinuity buffer on the display (the default)
     };
-    const Run runs[] = {{"path", scene.get(), false}, {"path_denoise", scene.get(), true}, {"igi", igi_scene.get(), false}};
+    const Run runs[] = {{"path", scene.get(), false, true},
+                        {"path_denoise", scene.get(), true, true},
+                        {"igi", igi_scene.get(), false, true},
+                        {"igi_no_discontinuity", igi_scene.get(), false, false}};
     std::string dat;
-    for (const auto& [name, sc, denoise] : runs) {
+    for (const auto& [name, sc, denoise, discontinuity] : runs) {
       LiveMode fl;
       fl.name = fl.kind = name;
       fl.engine.width = width;
       fl.engine.height = height;
       fl.engine.threads = threads;
       fl.display.blend.denoise = denoise;
+      fl.display.blend.discontinuity = discontinuity;
       fl.engine.track_variance = denoise;
       bench_progress("gi", std::string("frameless ") + name + " for " + csv_number(run_s) + " s");
       const LiveResult live = run_live(*sc, fl, sched);
@@ -228,7 +233,8 @@ int run_gi(const GiOptions& options) {
                        {"samples_per_pixel", double(last.samples) / double(pixels)}};
       }
       nlohmann::json shots = nlohmann::json::array();
-      for (int n : denoise ? std::vector<int>{} : a.spp) {  // the display's filter: live runs only
+      // The display's filters act on live runs only: one-shot renders would repeat a row.
+      for (int n : denoise || !discontinuity ? std::vector<int>{} : a.spp) {
         TileRenderOptions o;
         o.spp = n;
         o.threads = threads;
@@ -240,7 +246,8 @@ int run_gi(const GiOptions& options) {
       fj["one_shot"] = shots;
       j["frameless"][name] = fj;
     }
-    // The denoiser's cost on the display thread at 1280x720 (path, 3 s each, with and without;
+    // The display filters' cost at 1280x720 (path plain and --denoise, igi with its discontinuity
+    // buffer; 3 s each;
     // both score every image against a black reference, so the difference is the filter's).
     if (!a.quick) {
       const std::vector<float> black(size_t(1280) * 720 * 3, 0.0f);
@@ -250,16 +257,17 @@ int run_gi(const GiOptions& options) {
       big.noise_mse = {0.0};
       big.duration = 3.0;
       nlohmann::json cost;
-      for (bool denoise : {false, true}) {
+      for (const char* kind : {"plain", "denoise", "igi_discontinuity"}) {
+        const bool denoise = std::string(kind) == "denoise", igi = std::string(kind) == "igi_discontinuity";
         LiveMode m;
-        m.name = m.kind = denoise ? "denoise" : "plain";
+        m.name = m.kind = kind;
         m.engine.width = 1280;
         m.engine.height = 720;
         m.engine.threads = threads;
         m.display.blend.denoise = denoise;
         m.engine.track_variance = denoise;
         bench_progress("gi", std::string("display cost at 1280x720, ") + m.name);
-        const LiveResult r = run_live(*scene, m, big);
+        const LiveResult r = run_live(igi ? *igi_scene : *scene, m, big);
         cost[m.name] = {{"display_cpu_share", r.seconds > 0 ? r.display_cpu_seconds / r.seconds : 0.0},
                         {"ticks", r.ticks.size()},
                         {"ms_per_tick", r.ticks.empty() ? 0.0 : 1e3 * r.display_cpu_seconds / double(r.ticks.size())}};
@@ -312,8 +320,9 @@ int run_gi(const GiOptions& options) {
     body += "plot '" + a.out + "/gi.dat' index 0 using 1:2 with lines lw 2 title 'frameless path'";
     body += ", '" + a.out + "/gi.dat' index 1 using 1:2 with lines lw 2 title 'frameless path --denoise'";
     body += ", '" + a.out + "/gi.dat' index 2 using 1:2 with lines lw 2 title 'frameless igi'";
+    body += ", '" + a.out + "/gi.dat' index 3 using 1:2 with lines lw 1 dt 2 title 'frameless igi --no-discontinuity'";
     if (!cycles_t.empty())
-      body += ", '" + a.out + "/gi.dat' index 3 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
+      body += ", '" + a.out + "/gi.dat' index 4 using 1:2 with linespoints lw 2 pt 7 title 'Cycles " +
               gnuplot_text(cj.value("version", "")) + "'";
     bool png = false;
     if (!plot_png(a.out, "gi", 800, 500, body, error, &png)) return report_error(error);
@@ -348,8 +357,10 @@ int run_gi(const GiOptions& options) {
                   v["rmse"].get<double>(), v["bake_seconds"].get<double>());
     if (j.contains("denoise_cost_1280x720")) {
       const auto& c = j["denoise_cost_1280x720"];
-      std::printf("  display at 1280x720: %.1f ms per tick plain, %.1f ms with --denoise\n",
-                  c["plain"]["ms_per_tick"].get<double>(), c["denoise"]["ms_per_tick"].get<double>());
+      std::printf("  display at 1280x720: %.1f ms per tick plain, %.1f ms with --denoise, %.1f ms igi with its "
+                  "discontinuity buffer\n",
+                  c["plain"]["ms_per_tick"].get<double>(), c["denoise"]["ms_per_tick"].get<double>(),
+                  c["igi_discontinuity"]["ms_per_tick"].get<double>());
     }
     std::printf("  wrote %s/gi.json\n", a.out.c_str());
   } catch (const std::exception& ex) {

@@ -30,6 +30,9 @@ struct BlendConfig {
   // albedo (display/denoise.h): the display's own state stays unfiltered.
   bool denoise = false;
   int denoise_iterations = 3;  // 1..8: the filter reaches 2^iterations pixels
+  // igi: OpenRT's discontinuity buffer (display/discontinuity_buffer.h) on the shown image, over
+  // the interleaving pattern's n x n window; nothing to do for the other integrators.
+  bool discontinuity = true;
 };
 
 // displayed (1 - alpha) + sample alpha, per channel.

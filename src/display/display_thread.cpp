@@ -30,9 +30,12 @@ void show(const PixelImage& img, DisplayImage& out, uint64_t& synced, FilteredSh
     f.active = false;
   }
   sync_public(img, out, synced);
-  if (img.denoise_iterations > 0 && img.guides.size() == out.pixels()) {
+  const bool discontinuity = img.discontinuity > 1 && img.indirect.size() == out.pixels();
+  const bool denoise = img.denoise_iterations > 0;
+  if ((discontinuity || denoise) && img.guides.size() == out.pixels()) {
     f.raw = out.rgb;
-    denoise_image(out, img.guides, img.denoise_iterations, f.buffers);
+    if (discontinuity) filter_discontinuity(out, img.guides, img.indirect, img.discontinuity, f.discontinuity);
+    if (denoise) denoise_image(out, img.guides, img.denoise_iterations, f.buffers);
     f.active = true;
   }
 }
@@ -73,15 +76,20 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 
   // The denoiser's guides: each pixel's newest normal, position and albedo (read here, while
   // the engine's points are certainly valid).
-  if (cfg.blend.denoise && r.points && image.pixels() > 0) {
+  const bool discontinuity = cfg.blend.discontinuity && r.indirect && r.interleave > 1;
+  if ((cfg.blend.denoise || discontinuity) && r.points && image.pixels() > 0) {
     image.guides.resize(image.pixels());
     for (size_t i = 0; i < image.pixels(); ++i)
       if (!read_guide(r.points[i], image.guides[i])) image.guides[i] = PointGuide{};
-    image.denoise_iterations = std::clamp(cfg.blend.denoise_iterations, 1, 8);
   } else {
     image.guides.clear();
-    image.denoise_iterations = 0;
   }
+  image.denoise_iterations = cfg.blend.denoise && !image.guides.empty() ? std::clamp(cfg.blend.denoise_iterations, 1, 8) : 0;
+  // igi's indirect light, for the discontinuity buffer (relaxed reads: frameless/pixel_points.h).
+  image.discontinuity = discontinuity && !image.guides.empty() ? r.interleave : 0;
+  image.indirect.resize(image.discontinuity > 0 ? image.pixels() : 0);
+  for (size_t i = 0; i < image.indirect.size(); ++i)
+    for (int c = 0; c < 3; ++c) image.indirect[i][c] = r.indirect[i].mean[c].load(std::memory_order_relaxed);
   publish();
   if (on_tick) {
     show(image, tick_image, tick_image_synced, tick_filter);

@@ -16,6 +16,7 @@
 #include "display/display_thread.h"
 #include "display/reproject.h"
 #include "display/denoise.h"
+#include "display/discontinuity_buffer.h"
 #include "display/slot_image.h"
 #include "frameless/cpu_clock.h"
 
@@ -27,6 +28,7 @@ struct FilteredShow {
   std::vector<float> raw;
   bool active = false;
   DenoiseBuffers buffers;
+  DiscontinuityBuffers discontinuity;
 };
 
 struct DisplayThread::Impl {

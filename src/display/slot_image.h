@@ -55,6 +55,10 @@ struct PixelImage {
   // show the image unfiltered), and the filter's passes.
   std::vector<PointGuide> guides;
   int denoise_iterations = 0;
+  // igi's discontinuity buffer (BlendConfig::discontinuity): each pixel's mean indirect light,
+  // in pixel order, and the interleaving window n (0: off). It reads the same guides.
+  std::vector<Vec3> indirect;
+  int discontinuity = 0;
 
   size_t pixels() const { return size_t(width) * size_t(height); }
   uint32_t pixel_of(size_t slot) const { return layout ? (*layout->pixel_of)[slot] : uint32_t(slot); }

@@ -73,6 +73,7 @@ void rebuild_layout(Engine::Impl& e, const EngineConfig& config) {
     e.states.reset(new PixelState[n]);
     e.levels.reset(new std::atomic<uint8_t>[n]());  // by pixel: a new slot order keeps it
     e.points.reset(new PixelPoint[n]);
+    e.indirect.reset(e.scene.settings.integrator == Integrator::kIgi ? new PixelIndirect[n] : nullptr);
     ++e.cleared;
   } else if (slot_of != e.slot_of) {
     std::unique_ptr<PixelState[]> states(new PixelState[n]);
@@ -345,6 +346,8 @@ CollectResult Engine::collect(UpdateCursor& cursor, UpdateSink& sink) {
   r.slot_pixel = e.display_order;
   r.levels = e.levels.get();
   r.points = e.points.get();
+  r.indirect = e.indirect.get();
+  r.interleave = e.indirect ? std::max(1, e.scene.settings.igi.interleave) : 0;
   r.wanted = e.wanted.runs && e.priority_rings ? &e.wanted : nullptr;
   r.world_moves = !e.scene.dynamic.empty() || e.instances_epoch.load(std::memory_order_relaxed) > 1 ||
                   e.world_channel.epoch() > 1;

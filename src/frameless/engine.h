@@ -71,6 +71,10 @@ struct CollectResult {
   // Primary hit of each pixel's newest update, by pixel, written like the levels (null before
   // the first layout): what reprojection moves (frameless/pixel_points.h).
   const PixelPoint* points = nullptr;
+  // igi (else null): each pixel's mean indirect light, by pixel, written like the points; and
+  // the interleaving pattern's side n, the window igi's discontinuity buffer filters over.
+  const PixelIndirect* indirect = nullptr;
+  int interleave = 0;
   // Closed-loop sampling (EngineConfig::closed_loop, frameless mode; else null): the display asks
   // for runs of slots here, from inside its sink callbacks (frameless/closed_loop.h).
   WantedRuns* wanted = nullptr;

@@ -156,6 +156,8 @@ struct Engine::Impl {
   // Primary hit of each pixel's newest update, by pixel like the levels: what the display's
   // reprojection moves (frameless/pixel_points.h).
   std::unique_ptr<PixelPoint[]> points;
+  // igi only (else null): each pixel's mean indirect light, by pixel (frameless/pixel_points.h).
+  std::unique_ptr<PixelIndirect[]> indirect;
   std::vector<uint32_t> slot_of;
   std::vector<size_t> thread_first_slot;  // frameless: first slot of each thread's list
   // Frameless: the pixel each slot holds, shared with the display (immutable once built); null

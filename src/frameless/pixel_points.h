@@ -27,6 +27,15 @@ struct alignas(32) PixelPoint {
 };
 static_assert(sizeof(PixelPoint) == 32, "two pixels' points per cache line");
 
+// igi's discontinuity buffer: the running mean of each pixel's indirect light
+// (SampleResult::indirect), kept by the pixel's owner with the same restarts and weights as its
+// colour mean, by pixel like the points. The display reads it with relaxed atomics: a channel may
+// be one update newer than another, which a filter's input tolerates (nothing else reads it).
+struct alignas(16) PixelIndirect {
+  std::atomic<float> mean[3] = {0.0f, 0.0f, 0.0f};
+  uint32_t unused = 0;
+};
+
 // A plain copy of one pixel's point.
 struct ScenePoint {
   Vec3 p{0.0f};

@@ -66,13 +66,14 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
                           History history, const SampleResult* r) {
   const uint32_t passes = p.passes.load(std::memory_order_relaxed);
   const int spu = e.cfg.jitter ? 2 : 1;
-  Vec3 colors[2];
+  Vec3 colors[2], indirect(0.0f);  // indirect: igi's share at the primary hits, summed
   int valid = 0;
   uint8_t levels = 0;  // the reflection depth view's value: the deepest valid sample
   const SampleResult* nearest = nullptr;  // reprojection's point: the nearest valid hit
   for (int j = 0; j < spu; ++j)
     if (r[j].valid && is_finite(r[j].color)) {
       colors[valid++] = r[j].color;
+      indirect += r[j].indirect;
       levels = std::max(levels, r[j].levels);
       if (!nearest || r[j].depth < nearest->depth) nearest = &r[j];
     }
@@ -117,6 +118,7 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
     }
     count = keep;
   }
+  const uint32_t kept = count;  // samples of the history the new ones join
   Vec3 sum(0.0f);
   for (int k = 0; k < valid; ++k) {
     const Vec3& s = colors[k];
@@ -138,6 +140,13 @@ inline void finish_update(Engine::Impl& e, uint32_t idx, PixelState& p, uint32_t
       publish_state(p, count, epoch, mean, m2, sample, time, [&] {
         store_levels(e, idx, levels, frame);
         store_point(e.points[idx], *nearest);
+        if (e.indirect) {  // the same mean as the colour's: the kept history plus the new samples
+          PixelIndirect& d = e.indirect[idx];
+          for (int c = 0; c < 3; ++c) {
+            const float old = kept > 0 ? d.mean[c].load(std::memory_order_relaxed) : 0.0f;
+            d.mean[c].store(float((double(old) * kept + indirect[c]) / double(count)), std::memory_order_relaxed);
+          }
+        }
       });
 
   if (frame) {

@@ -96,7 +96,7 @@ Vec3 vpl_light(const Scene& scene, const DynamicFrame* frame, const PathSurface&
 
 Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, uint32_t sample_index,
                uint64_t seed, const DynamicFrame* frame, const Hit* known_hit, Hit* first_hit,
-               SurfacePoint* first_point, int* bounces, Vec3* first_albedo) {
+               SurfacePoint* first_point, int* bounces, Vec3* first_albedo, Vec3* first_indirect) {
   const IgiSettings& g = scene.settings.igi;
   DirectLight st{scene, frame, LightStrategy::kLightOnly, Rng(seed), environment_emits(scene), false};
   const int n = std::max(1, g.interleave);
@@ -126,7 +126,9 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
     const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
     radiance += beta * direct_light(st, s, origin, extinction);
     if (path_is_smooth(s)) {
-      radiance += beta * vpl_light(scene, frame, s, origin, vpl_set(cache, scene, frame, set), clamp_d * clamp_d);
+      const Vec3 indirect = beta * vpl_light(scene, frame, s, origin, vpl_set(cache, scene, frame, set), clamp_d * clamp_d);
+      radiance += indirect;
+      if (bounce == 0 && first_indirect) *first_indirect = indirect;
       if (m.cls != MaterialClass::kPolished) break;
       // Polished: the coat's mirror image too, weighted by Schlick (as Whitted does).
       const Vec3 ks = schlick(std::clamp(s.wo.z, 0.0f, 1.0f), m.r0);

@@ -11,10 +11,11 @@ namespace frameless {
 
 // Radiance along `ray` through image position (px, py) for sample `sample_index` of its pixel:
 // the pixel's class in the interleave x interleave pattern and the sample index choose the VPL
-// set (set = sample_index * interleave^2 + class). Other arguments as trace_path.
+// set (set = sample_index * interleave^2 + class). `first_indirect` receives the VPLs' light at
+// the primary hit (what OpenRT's discontinuity buffer filters). Other arguments as trace_path.
 Vec3 trace_igi(const Scene& scene, const Ray& ray, float px, float py, uint32_t sample_index,
                uint64_t seed, const DynamicFrame* frame = nullptr, const Hit* known_hit = nullptr,
                Hit* first_hit = nullptr, SurfacePoint* first_point = nullptr, int* bounces = nullptr,
-               Vec3* first_albedo = nullptr);
+               Vec3* first_albedo = nullptr, Vec3* first_indirect = nullptr);
 
 }  // namespace frameless

@@ -25,7 +25,7 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
     out.color = trace_path(scene, ray, rng_seed, frame, known_hit, &hit, &sp, &levels, {}, &out.albedo);
   } else if (scene.settings.integrator == Integrator::kIgi) {
     out.color = trace_igi(scene, ray, px, py, sample_index, rng_seed, frame, known_hit, &hit, &sp,
-                          &levels, &out.albedo);
+                          &levels, &out.albedo, &out.indirect);
   } else {
     // The shading path is chosen once per sample from the scene's features and skips.
     out.color = trace_radiance_path(scene, frame ? frame->shade_path : shade_path(scene), ray, 0,
@@ -56,6 +56,7 @@ SampleResult trace_sample(const Scene& scene, const CameraBasis& camera, float p
     out.color = Vec3(0.0f);
     out.normal = Vec3(0.0f);
     out.albedo = Vec3(0.0f);
+    out.indirect = Vec3(0.0f);
     out.depth = kInfinity;
     out.object = kPointNone;
   }

@@ -22,6 +22,9 @@ struct SampleResult {
   // The primary hit's albedo for the display's denoiser (path and igi only; 0 otherwise): the
   // diffuse colour, a metal's k_s, 1 for glass.
   Vec3 albedo{0.0f};
+  // igi only: the virtual point lights' share of `color` at the primary hit (the display's
+  // discontinuity buffer filters it over neighbours on the same surface); 0 otherwise.
+  Vec3 indirect{0.0f};
 };
 
 // SampleResult::object: nothing yet, the sky (position is a direction), the static scene, a
