@@ -242,7 +242,8 @@ void print_table(FILE* out, const nlohmann::json& j, const std::vector<Row>& row
     std::fprintf(out, "%-11s %-22s %-14s %9.4f %9.4f %6.1f%%  %s: %s (RMSE %.2e)\n",
                  r.skip.c_str(), r.scene.c_str(), (r.code_on + "->" + r.code_off).c_str(), r.on,
                  r.off, 100.0 * r.saved, r.check.c_str(), r.pass ? "pass" : "FAIL", r.rmse);
-  std::fprintf(out, "paths: L lights, R refraction, A absorption, H highlights compiled in; timings: "
+  std::fprintf(out, "paths: L lights, R refraction, A absorption, H highlights compiled in, E the black "
+                    "environment sampled (path tracing); timings: "
                     "per-sample rows in 1-thread CPU seconds per image (median), variance in engine "
                     "seconds per million samples, adaptive in deterministic-engine seconds to reach plain's "
                     "final RMSE\n");
@@ -276,7 +277,12 @@ int run_ablation(const AblationOptions& a) {
   auto no_lights = load_scene_or_report(a.scene);
   auto no_dielectric = load_scene_or_report(a.scene);
   auto no_highlights = load_scene_or_report(a.scene);
-  if (!base || !no_lights || !no_dielectric || !no_highlights) return 2;
+  // Path tracing with no emitter and a black background: nothing to sample but Parker's lights.
+  auto dark_path = load_scene_or_report(a.scene);
+  if (!base || !no_lights || !no_dielectric || !no_highlights || !dark_path) return 2;
+  dark_path->settings.integrator = Integrator::kPath;
+  dark_path->settings.background = Vec3(0.0f);
+  const bool dark = dark_path->emitters.empty() && !dark_path->environment;
   apply_scene_variant(*no_lights, "no-lights");
   apply_scene_variant(*no_dielectric, "no-dielectric");
   apply_scene_variant(*no_highlights, "no-highlights");
@@ -295,7 +301,16 @@ int run_ablation(const AblationOptions& a) {
     rows.push_back(per_sample_row(*no_highlights, "highlights", [](SkipConfig& k) { k.highlights = false; }, a, w, h, 0));
     rows.push_back(per_sample_row(*base, "any-hit", [](SkipConfig& k) { k.any_hit = false; }, a, w, h, 0));
     rows.push_back(per_sample_row(*base, "prune", [](SkipConfig& k) { k.prune = false; }, a, w, h, 2e-3));
-    rows.push_back(per_sample_row(*no_lights, "all", [](SkipConfig& k) { k = {false, false, false, false, false}; }, a, w, h, 2e-3));
+    rows.push_back(per_sample_row(*no_lights, "all", [](SkipConfig& k) { k = {false, false, false, false, false, false}; }, a, w, h, 2e-3));
+    if (dark) {
+      Row r = per_sample_row(*dark_path, "emitters", [](SkipConfig& k) { k.emitters = false; }, a, w, h, 0);
+      r.scene += "/path-dark";  // path tracing, black background, no emitters
+      r.path_on = "no emitter or environment sampling";
+      r.path_off = "the black environment sampled (shadow rays)";
+      r.code_on = "----";
+      r.code_off = "E";
+      rows.push_back(r);
+    }
     rows.push_back(variance_row(*base, ec, a));
     for (Row& r : rows) r.saved = r.off > 0 ? 1.0 - r.on / r.off : 0.0;
 

@@ -24,6 +24,9 @@ struct SkipConfig {
   bool highlights = true;  // no highlight on any material: compiled without Phong lobes
   bool prune = true;       // prune ray-tree branches below min_contribution (off: only weight 0)
   bool any_hit = true;     // shadow rays stop at the first occluder (off: closest-hit traversal)
+  // Path tracing without emitters and with a black environment: no emitter or environment
+  // sampling (off: the black environment is sampled anyway, shadow rays and all).
+  bool emitters = true;
 };
 
 // How a sample's light is computed (docs/global-illumination.md): Parker's Whitted-style model,

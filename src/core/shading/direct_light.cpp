@@ -75,7 +75,9 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     }
   }
   if (st.environment) {
-    const float u1 = st.rng.next_float(), u2 = st.rng.next_float();
+    Rng copy = st.rng;
+    Rng& rng = st.black_environment ? copy : st.rng;
+    const float u1 = rng.next_float(), u2 = rng.next_float();
     LightSample ls;
     if (!sample_environment(st.scene, u1, u2, ls)) return sum;
     const float c = cos_at(ls.wi);

@@ -51,6 +51,9 @@ struct DirectLight {
   Rng rng;
   bool environment;      // the environment emits: sample it
   bool extended_lights;  // some Parker light has an extent (BSDF rays may reach it)
+  // The environment is black and sampled only to measure that skipping it pays (SkipConfig::
+  // emitters off): its numbers come from a copy of the stream, so the image stays bit-identical.
+  bool black_environment = false;
 };
 
 // Direct light leaving surface s towards its viewer: Parker's lights (through the smooth part,

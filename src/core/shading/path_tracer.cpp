@@ -24,7 +24,9 @@ constexpr float kMaxSurvival = 0.95f;
 Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const DynamicFrame* frame,
                 const Hit* known_hit, Hit* first_hit, SurfacePoint* first_point, int* bounces,
                 const PathOptions& options, Vec3* first_albedo) {
-  DirectLight st{scene, frame, options.strategy, Rng(seed), environment_emits(scene), false};
+  const bool emits = environment_emits(scene);
+  DirectLight st{scene, frame, options.strategy, Rng(seed), emits || !scene.settings.skips.emitters, false,
+                 !emits && !scene.settings.skips.emitters};
   for (const Light& l : frame_lights(scene, frame)) st.extended_lights |= l.has_extent();
   const int max_bounces = options.max_bounces >= 0 ? options.max_bounces : scene.settings.max_depth;
 
