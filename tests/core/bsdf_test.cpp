@@ -158,6 +158,23 @@ TEST(Bsdf, GgxNeverGainsEnergyAndLosesLittleWhenSmooth) {
   }
 }
 
+TEST(Bsdf, GltfNonMetalCoatAndBaseNeverGainEnergy) {
+  // A white base under glTF's 0.04 coat: coat plus base reflect at most what comes in, at every
+  // roughness and angle, and most of it (the base keeps what the coat leaves).
+  const Vec3 f0(0.04f);
+  for (float a : {0.01f, 0.1f, 0.5f, 1.0f}) {
+    auto f = [&](const Vec3& o, const Vec3& i) { return ggx_coated_eval(Vec3(1.0f), f0, a, o, i); };
+    for (float th : {0.0f, 40.0f, 70.0f, 85.0f}) {
+      const double e = albedo(f, dir_at(th));
+      EXPECT_LE(e, 1.0 + 3e-3) << "alpha " << a << " theta " << th;
+      if (th <= 40.0f) EXPECT_GT(e, 0.9) << "alpha " << a << " theta " << th;
+    }
+  }
+  // The coat alone is the GGX lobe of f0: a black base reflects about 4 % head on.
+  auto coat = [&](const Vec3& o, const Vec3& i) { return ggx_coated_eval(Vec3(0.0f), f0, 0.3f, o, i); };
+  EXPECT_NEAR(albedo(coat, dir_at(0)), 0.04, 0.01);
+}
+
 TEST(Bsdf, SamplingIsUnbiasedAndDensitiesMatch) {
   const Vec3 white(1.0f);
   for (float th : {0.0f, 50.0f, 80.0f}) {
@@ -177,6 +194,16 @@ TEST(Bsdf, SamplingIsUnbiasedAndDensitiesMatch) {
         return ggx_sample(white, a, o, u1, u2);
       };
       expect_consistent(f, pdf, sample, wo, 23);
+    }
+    for (float a : {0.05f, 0.5f}) {  // glTF's non-metals: the lobe is picked by a third number
+      const Vec3 kd(0.7f), f0(0.04f);
+      Rng pick(31);
+      auto f = [&](const Vec3& o, const Vec3& i) { return ggx_coated_eval(kd, f0, a, o, i); };
+      auto pdf = [&](const Vec3& o, const Vec3& i) { return ggx_coated_pdf(f0, a, o, i); };
+      auto sample = [&](const Vec3& o, float u1, float u2) {
+        return ggx_coated_sample(kd, f0, a, o, pick.next_float(), u1, u2);
+      };
+      expect_consistent(f, pdf, sample, wo, 29);
     }
   }
 }

@@ -147,6 +147,35 @@ TEST(PathTracer, GgxMetalsConserveEnergyAndItsStrategiesAgree) {
   EXPECT_NEAR(a.mean, c.mean, 5.0 * std::hypot(a.se, c.se));
 }
 
+TEST(PathTracer, GltfNonMetalsConserveEnergyAndTheirStrategiesAgree) {
+  // A glTF plastic (white base, 0.04 GGX coat of roughness 0.3) in a white furnace: at most 1.
+  auto s = parse_ok(furnace(R"("w":{"class":"polished","kd":1,"r0":0.04,"kh":0})",
+                            R"({"type":"sphere","center":[0,0,0],"radius":1,"material":"w"})"));
+  ASSERT_TRUE(s);
+  s->materials[0].roughness = 0.3f;
+  const Estimate e = estimate(*s, make_ray(Vec3(0, 0, 4), Vec3(0.3f, 0.1f, -1)), 20000, 51);
+  EXPECT_LE(e.mean, 1.0 + 5 * e.se);
+  EXPECT_GT(e.mean, 0.85);
+  // A glossy plastic floor (roughness 0.15) under an emissive quad: light, BSDF and MIS agree.
+  auto f = parse_ok(R"({"settings":{"integrator":"path"},"ambient":{"type":"none"},
+      "materials":{"floor":{"class":"diffuse","kd":[0.6,0.3,0.2]},"lamp":{"class":"diffuse","kd":0,"emission":4}},
+      "objects":[{"type":"plane","point":[0,0,0],"normal":[0,1,0],"size":40,"material":"floor"},
+                 {"type":"plane","point":[0,1.5,-1],"normal":[0,-1,0],"size":2,"material":"lamp"}]})");
+  ASSERT_TRUE(f);
+  f->materials[0].roughness = 0.15f;
+  f->materials[0].r0 = Vec3(0.04f);
+  const Ray ray = make_ray(Vec3(0, 1, 2), Vec3(0, -1, -1.2f));
+  PathOptions mis, light, bsdf;
+  mis.max_bounces = light.max_bounces = bsdf.max_bounces = 1;
+  light.strategy = LightStrategy::kLightOnly;
+  bsdf.strategy = LightStrategy::kBsdfOnly;
+  const Estimate a = estimate(*f, ray, 60000, 52, mis), b = estimate(*f, ray, 60000, 53, light),
+                 c = estimate(*f, ray, 200000, 54, bsdf);
+  EXPECT_GT(a.mean, 0.05);
+  EXPECT_NEAR(a.mean, b.mean, 5.0 * std::hypot(a.se, b.se));
+  EXPECT_NEAR(a.mean, c.mean, 5.0 * std::hypot(a.se, c.se));
+}
+
 TEST(PathTracer, PolishedWithAColouredCoatNeverReflectsMoreThanComesIn) {
   // White base under a strongly coloured coat in a white furnace: each channel at most 1.
   auto s = parse_ok(furnace(R"("w":{"class":"polished","kd":1,"r0":[0.9,0.1,0.1],"kh":0})",

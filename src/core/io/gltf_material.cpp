@@ -9,6 +9,8 @@
 //  polished    r < 0.5: kd = b.rgb, kd_tex = base colour texture, r0 = 0.04 (dielectric coat),
 //              kh = 1 - r.
 //  diffuse     otherwise: kd = b.rgb, kd_tex = base colour texture.
+// The path tracer reads metals as GGX of roughness r (f0 = ks) and both non-metal classes as a
+// GGX coat (f0 = 0.04, roughness r) over the coupled diffuse base (core/shading/bsdf.h).
 // Every highlight exponent is N = 2 / r^4 - 2 (Blinn-Phong matching a microfacet alpha = r^2),
 // clamped to [1, 10000]. A primitive without a material gets a grey (0.8) diffuse one, not glTF's
 // white rough metal default.
@@ -149,10 +151,9 @@ Result<Material> MaterialMap::convert(int index) {
     m.cls = roughness < 0.5 ? MaterialClass::kPolished : MaterialClass::kDiffuse;
     m.kd = Vec3(base);
     m.kd_tex = *base_tex;
-    if (m.cls == MaterialClass::kPolished) {
-      m.r0 = Vec3(0.04f);
-      m.kh = Vec3(float(1.0 - roughness));
-    }
+    m.r0 = Vec3(0.04f);  // the path tracer's GGX coat (Whitted reads it for polished only)
+    m.roughness = float(roughness);
+    if (m.cls == MaterialClass::kPolished) m.kh = Vec3(float(1.0 - roughness));
   }
   if (mask || blend) {
     m.alpha_tex = *base_tex;

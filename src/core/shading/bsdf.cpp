@@ -114,13 +114,37 @@ float ggx_pdf(float alpha, const Vec3& wo, const Vec3& wi) {
   return oh > 0.0f ? ggx_d(alpha, h.z) * h.z / (4.0f * oh) : 0.0f;
 }
 
-BsdfSample ggx_sample(const Vec3& f0, float alpha, const Vec3& wo, float u1, float u2) {
+// wo reflected about a half vector drawn from D(h) cos(theta_h): tan^2(theta_h) = alpha^2 u1 / (1 - u1).
+static Vec3 ggx_reflect_sample(float alpha, const Vec3& wo, float u1, float u2) {
   alpha = clamp_alpha(alpha);
-  // The half vector from D(h) cos(theta_h): tan^2(theta_h) = alpha^2 u1 / (1 - u1).
   const float cos_h = std::sqrt((1.0f - u1) / (1.0f + (alpha * alpha - 1.0f) * u1));
   const Vec3 h = around(Vec3(0.0f, 0.0f, 1.0f), cos_h, 2.0f * kPi * u2);
-  const Vec3 wi = 2.0f * glm::dot(wo, h) * h - wo;
+  return 2.0f * glm::dot(wo, h) * h - wo;
+}
+
+BsdfSample ggx_sample(const Vec3& f0, float alpha, const Vec3& wo, float u1, float u2) {
+  const Vec3 wi = ggx_reflect_sample(alpha, wo, u1, u2);
   return finish(wi, ggx_eval(f0, alpha, wo, wi), ggx_pdf(alpha, wo, wi));
+}
+
+float ggx_coat_pick(const Vec3& f0, const Vec3& wo) {
+  const Vec3 f = schlick(std::clamp(wo.z, 0.0f, 1.0f), f0);
+  return std::clamp((f.x + f.y + f.z) * (1.0f / 3.0f), 0.1f, 0.9f);
+}
+
+Vec3 ggx_coated_eval(const Vec3& kd, const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi) {
+  return ggx_eval(f0, alpha, wo, wi) + coupled_diffuse_eval(kd, f0, wo, wi);
+}
+
+float ggx_coated_pdf(const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi) {
+  const float p = ggx_coat_pick(f0, wo);
+  return p * ggx_pdf(alpha, wo, wi) + (1.0f - p) * lambert_pdf(wo, wi);
+}
+
+BsdfSample ggx_coated_sample(const Vec3& kd, const Vec3& f0, float alpha, const Vec3& wo, float u0,
+                             float u1, float u2) {
+  const Vec3 wi = u0 < ggx_coat_pick(f0, wo) ? ggx_reflect_sample(alpha, wo, u1, u2) : sample_cosine_hemisphere(u1, u2);
+  return finish(wi, ggx_coated_eval(kd, f0, alpha, wo, wi), ggx_coated_pdf(f0, alpha, wo, wi));
 }
 
 }  // namespace frameless

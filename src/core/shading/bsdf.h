@@ -50,4 +50,14 @@ Vec3 ggx_eval(const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi);
 float ggx_pdf(float alpha, const Vec3& wo, const Vec3& wi);
 BsdfSample ggx_sample(const Vec3& f0, float alpha, const Vec3& wo, float u1, float u2);
 
+// glTF's non-metals (a dielectric base): the GGX coat of reflectance f0 (glTF's 0.04) and
+// roughness over the coupled diffuse base of kd, which keeps what a coat of f0 leaves. Sampled by
+// picking the coat with probability ggx_coat_pick(f0, wo) (its mean Schlick reflectance at wo,
+// kept in [0.1, 0.9]) and the base otherwise; the density is that mixture.
+float ggx_coat_pick(const Vec3& f0, const Vec3& wo);
+Vec3 ggx_coated_eval(const Vec3& kd, const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi);
+float ggx_coated_pdf(const Vec3& f0, float alpha, const Vec3& wo, const Vec3& wi);
+BsdfSample ggx_coated_sample(const Vec3& kd, const Vec3& f0, float alpha, const Vec3& wo, float u0,
+                             float u1, float u2);
+
 }  // namespace frameless

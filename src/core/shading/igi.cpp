@@ -129,8 +129,9 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
       const Vec3 indirect = beta * vpl_light(scene, frame, s, origin, vpl_set(cache, scene, frame, set), clamp_d * clamp_d);
       radiance += indirect;
       if (bounce == 0 && first_indirect) *first_indirect = indirect;
-      if (m.cls != MaterialClass::kPolished) break;
-      // Polished: the coat's mirror image too, weighted by Schlick (as Whitted does).
+      // Polished: the coat's mirror image too, weighted by Schlick (as Whitted does); a glTF
+      // coat (GGX of its roughness) is in the BSDF already and sees the VPLs through it.
+      if (m.cls != MaterialClass::kPolished || m.roughness >= 0.0f) break;
       const Vec3 ks = schlick(std::clamp(s.wo.z, 0.0f, 1.0f), m.r0);
       Vec3 d = ray.dir - 2.0f * glm::dot(ray.dir, s.frame.n) * s.frame.n;
       if (glm::dot(d, sp.ng) <= 0.0f) break;

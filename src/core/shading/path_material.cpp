@@ -54,13 +54,18 @@ Vec3 guide_albedo(const MaterialParams& m) {
 // A glTF metal: GGX of its roughness instead of a mirror (sampled, so it is smooth).
 inline bool ggx_metal(const MaterialParams& m) { return m.cls == MaterialClass::kMetal && m.roughness >= 0.0f; }
 inline float ggx_alpha(const MaterialParams& m) { return m.roughness * m.roughness; }
+// A glTF non-metal: the GGX coat of its roughness over the coupled diffuse base.
+inline bool ggx_coated(const MaterialParams& m) {
+  return (m.cls == MaterialClass::kPolished || m.cls == MaterialClass::kDiffuse) && m.roughness >= 0.0f;
+}
 
 bool path_is_smooth(const PathSurface& s) {
   return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished || ggx_metal(s.m);
 }
 
 bool path_has_light_lobes(const PathSurface& s) {
-  if (ggx_metal(s.m)) return false;  // GGX sees Parker's lights through next-event estimation
+  // GGX sees Parker's lights through next-event estimation (its lobe is in path_eval).
+  if (ggx_metal(s.m) || ggx_coated(s.m)) return false;
   return s.m.cls == MaterialClass::kMetal ? max_component(s.m.ks) > 0.0f
          : s.m.cls == MaterialClass::kDiffuse ? false
                                               : max_component(s.m.kh) > 0.0f;
@@ -69,6 +74,7 @@ bool path_has_light_lobes(const PathSurface& s) {
 Vec3 path_eval(const PathSurface& s, const Vec3& wi) {
   if (glm::dot(wi, s.ng) <= 0.0f) return Vec3(0.0f);
   const Vec3 l = s.frame.to_local(wi);
+  if (ggx_coated(s.m)) return ggx_coated_eval(s.m.kd, s.m.r0, ggx_alpha(s.m), s.wo, l);
   switch (s.m.cls) {
     case MaterialClass::kDiffuse:
       return lambert_eval(s.m.kd, s.wo, l);
@@ -91,6 +97,7 @@ Vec3 path_eval_light_lobes(const PathSurface& s, const Vec3& wi) {
 float path_pdf(const PathSurface& s, const Vec3& wi) {
   if (glm::dot(wi, s.ng) <= 0.0f) return 0.0f;
   const Vec3 l = s.frame.to_local(wi);
+  if (ggx_coated(s.m)) return ggx_coated_pdf(s.m.r0, ggx_alpha(s.m), s.wo, l);
   switch (s.m.cls) {
     case MaterialClass::kDiffuse:
       return lambert_pdf(s.wo, l);
@@ -105,6 +112,13 @@ float path_pdf(const PathSurface& s, const Vec3& wi) {
 
 bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter& out) {
   out = PathScatter{};
+  if (ggx_coated(s.m)) {
+    const BsdfSample b = ggx_coated_sample(s.m.kd, s.m.r0, ggx_alpha(s.m), s.wo, u0, u1, u2);
+    out.wi = s.frame.to_world(b.wi);
+    out.weight = b.weight;
+    out.pdf = b.pdf;
+    return glm::dot(out.wi, s.ng) > 0.0f && max_component(out.weight) > 0.0f && is_finite(out.weight);
+  }
   switch (s.m.cls) {
     case MaterialClass::kDiffuse: {
       const BsdfSample b = lambert_sample(s.m.kd, s.wo, u1, u2);

@@ -32,9 +32,10 @@ Vec2 unit_disk(float u1, float u2) {
   return Vec2(r * std::cos(phi), r * std::sin(phi));
 }
 
-// The albedo a smooth surface reflects a VPL's light with (Lambertian reading of its base).
+// The albedo a smooth surface reflects a VPL's light with (Lambertian reading of its base; glTF
+// materials, which carry a roughness, have a coat of r0 over it too).
 Vec3 vpl_albedo(const MaterialParams& m) {
-  return m.cls == MaterialClass::kPolished ? m.kd * (Vec3(1.0f) - m.r0) : m.kd;
+  return m.cls == MaterialClass::kPolished || m.roughness >= 0.0f ? m.kd * (Vec3(1.0f) - m.r0) : m.kd;
 }
 
 // A light path's start: its ray and the flux it carries (for Parker's point lights the flux
