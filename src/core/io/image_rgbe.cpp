@@ -15,7 +15,8 @@ namespace {
 
 constexpr size_t kMaxHeader = 1 << 16;  // a header longer than this has lost its blank line
 
-Error fail(const std::string& path, const std::string& what) { return Error{path + ": " + what}; }
+// Header text quoted in a message may hold line breaks: one_line() keeps the message on one line.
+Error fail(const std::string& path, const std::string& what) { return Error{one_line(path + ": " + what)}; }
 
 // One header line without its newline; false at the end of the bytes.
 bool next_line(const std::string& b, size_t& pos, std::string& line) {
