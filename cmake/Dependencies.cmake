@@ -7,6 +7,7 @@ find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)      # texture decoding (libjpeg-turbo)
+find_package(ZLIB REQUIRED)      # gzip-encoded NRRD volumes (zlib1g-dev, also libpng's)
 find_package(TinyGLTF REQUIRED CONFIG)  # glTF 2.0 models
 find_package(MPI REQUIRED COMPONENTS C)  # the cluster (Open MPI: libopenmpi-dev, openmpi-bin)
 find_package(embree 3 QUIET CONFIG)  # optional, bench-only: frameless bench rays compares with it

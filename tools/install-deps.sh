@@ -4,7 +4,7 @@
 set -euo pipefail
 
 build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
-  libtinyobjloader-dev libcli11-dev libpng-dev libglfw3-dev libosmesa6-dev libgl-dev
+  libtinyobjloader-dev libcli11-dev libpng-dev zlib1g-dev libglfw3-dev libosmesa6-dev libgl-dev
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
   libopenmpi-dev openmpi-bin)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3)

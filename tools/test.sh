@@ -57,7 +57,7 @@ section "ASan+UBSan build and tests (core, display, cli; the concurrency suites 
 # clang: a third less compile time than g++ here, and the same build links the parser fuzzer.
 tools/build.sh build/asan "${clang[@]}" \
   -DFRAMELESS_SANITIZE=address,undefined -DFRAMELESS_FUZZ=ON -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests display_tests cli_tests frameless scene_fuzzer
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests cli_tests frameless scene_fuzzer
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
   ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz' -E '_NOT_BUILT$')

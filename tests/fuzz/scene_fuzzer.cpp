@@ -18,6 +18,10 @@
 //      and traced by a few rays, whose hits must be finite and inside the patch's bounds
 //   9  binary sphere file (parse_sphere_bytes, with a colour map); spheres that load are built
 //      into a scene (finalize_scene) and traced
+//  11  NRRD volume with attached data (decode_nrrd, base folder /nonexistent)
+//  12  raw volume: bytes 0-2 are nx, ny, nz less 2, byte 3 % 3 the voxel type (uint8, uint16,
+//      float32), byte 4 & 1 big-endian, bytes 5-15 unused, the rest the voxels (decode_raw_volume);
+//      a grid that loads must hold exactly its voxels and a sane value range
 // Every call must return a value or a one-line, non-empty error; an error message that is empty
 // or holds a newline traps (__builtin_trap), as does a returned value that breaks its documented
 // invariants (mesh indices, per-vertex arrays, material and texture slots, image sizes, finite
@@ -44,11 +48,14 @@
 #include "cluster/wire.h"
 #include "core/io/patch_io.h"
 #include "core/io/sphere_file.h"
+#include "core/io/volume_nrrd.h"
+#include "core/io/volume_raw.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
 #include "core/scene/texture.h"
 #include "core/scenes/scene_load.h"
+#include "core/volume/macrocells.h"
 
 namespace {
 
@@ -331,10 +338,22 @@ void run_wire(const std::string& input) {
   }
 }
 
+// A volume that loads holds exactly its voxels, a sane range, and its macrocells hold that range.
+void run_volume(const Result<std::shared_ptr<const VolumeGrid>>& r) {
+  if (!r) return check_error(r.error());
+  const VolumeGrid& g = **r;
+  if (g.storage->size() != g.voxels() * voxel_bytes(g.type)) broken("volume storage size", std::to_string(g.storage->size()));
+  if (!(g.min_value <= g.max_value) || !std::isfinite(g.min_value) || !std::isfinite(g.max_value))
+    broken("volume value range", std::to_string(g.min_value) + " " + std::to_string(g.max_value));
+  const Macrocells m = build_macrocells(g);
+  for (size_t i = 0; i < m.lo.size(); ++i)
+    if (m.lo[i] < g.min_value || m.hi[i] > g.max_value) broken("macrocell outside the range", std::to_string(i));
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const std::string input(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 11) {
+  switch (data[0] % 13) {
     case 0:
       run_scene(parse_scene_json(input, "fuzz.json", "/nonexistent"));
       break;
@@ -395,6 +414,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 10:
       run_wire(input);
       break;
+    case 11:
+      run_volume(decode_nrrd(input, "fuzz.nrrd", "/nonexistent"));
+      break;
+    case 12: {
+      if (input.size() < 16) break;
+      RawVolumeSpec spec;
+      spec.nx = uint8_t(input[0]) + 2;
+      spec.ny = uint8_t(input[1]) + 2;
+      spec.nz = uint8_t(input[2]) + 2;
+      spec.type = VoxelType(uint8_t(input[3]) % 3);
+      spec.big_endian = input[4] & 1;
+      run_volume(decode_raw_volume(input.substr(16), spec, "fuzz.raw"));
+      break;
+    }
   }
   return 0;
 }

@@ -15,6 +15,7 @@
 #include "core/io/scene_json_materials.h"
 #include "core/io/scene_json_motion.h"
 #include "core/io/scene_json_patches.h"
+#include "core/io/scene_json_volume.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
 
@@ -305,6 +306,13 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
   } else if (type == "bezier") {
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
     parse_bezier(o, f, s, ctx.base_dir, object_material(o, f, ctx, m), m);
+  } else if (type == "volume") {
+    parse_volume(o, f, s, ctx.base_dir, [&](const json& name, const std::string& field) {
+      const std::string n = get_string(name, field);
+      const auto it = ctx.materials.find(n);
+      if (it == ctx.materials.end()) fail(field, "unknown material '" + n + "'");
+      return it->second;
+    });
   } else if (type == "plane") {
     check_keys(o, f, {"type", "point", "normal", "size", "material"});
     const Vec3 p = get_vec3(need(o, f, "point"), f + ".point");
@@ -335,7 +343,7 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     s.geometry.instances.push_back(inst);
   } else {
     fail(f + ".type", "unknown object type '" + type +
-                          "' (sphere, mesh, triangles, bezier, plane, box or instance)");
+                          "' (sphere, mesh, triangles, bezier, plane, box, instance or volume)");
   }
 }
 
@@ -408,6 +416,10 @@ void parse_scene(const json& root, Context& ctx) {
   for (const DynamicObject& d : s.dynamic) {  // frame the camera on moving objects too
     lo = glm::min(lo, d.sphere.center - Vec3(d.sphere.radius));
     hi = glm::max(hi, d.sphere.center + Vec3(d.sphere.radius));
+  }
+  for (const VolumeObject& v : s.volumes) {  // and on volumes
+    lo = glm::min(lo, v.lo);
+    hi = glm::max(hi, v.hi);
   }
   if (!is_finite(lo) || !is_finite(hi)) fail("objects", "geometry extends beyond finite coordinates");
   if (root.contains("camera")) {

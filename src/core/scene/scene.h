@@ -12,6 +12,7 @@
 #include "core/scene/environment.h"
 #include "core/scene/light.h"
 #include "core/scene/material.h"
+#include "core/scene/volume_object.h"
 
 namespace frameless {
 
@@ -99,6 +100,10 @@ struct Scene {
   RenderSettings settings;
   SceneFeatures features;
   Accel accel;
+  // Volumes (core/scene/volume_object.h): isosurfaces are surfaces outside `accel`, tested per
+  // ray like the moving objects; the volume shader's and MIP's are composited along rays.
+  std::vector<VolumeObject> volumes;
+  bool see_through_volumes = false;  // some volume is not an isosurface (finalize_scene sets it)
   // Objects that move (seed section 4): outside `accel`, tested per ray (core/scene/dynamic.h).
   std::vector<DynamicObject> dynamic;
   // Instances that move (JSON "motion" on an instance): offsets from their declared placement,

@@ -31,6 +31,8 @@ void build_accel(Scene& scene, const AccelConfig& base) {
 
 void finalize_scene(Scene& scene, const AccelConfig& config) {
   scene.features = analyse_scene(scene);
+  scene.see_through_volumes = false;
+  for (const VolumeObject& v : scene.volumes) scene.see_through_volumes |= v.mode != VolumeMode::kIsosurface;
   // Light that bounces by default only where something emits (the scene's own choice wins).
   if (scene.settings.integrator == Integrator::kAuto)
     scene.settings.integrator = scene.features.has_emission ? Integrator::kPath : Integrator::kWhitted;

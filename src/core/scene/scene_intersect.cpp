@@ -4,11 +4,17 @@
 #include "core/accel/instance.h"
 #include "core/accel/instance_top.h"
 #include "core/geometry/intersect_sphere.h"
+#include "core/scene/scene_volumes.h"
 
 namespace frameless {
 
 bool scene_intersect(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit) {
   if (!scene.accel.intersect(ray, hit, frame_instances(frame))) hit = Hit{};
+  return merge_nonstatic_hits(scene, frame, ray, hit);
+}
+
+bool merge_nonstatic_hits(const Scene& scene, const DynamicFrame* frame, const Ray& ray, Hit& hit) {
+  if (!scene.volumes.empty()) merge_volume_hits(scene, ray, hit);
   return merge_dynamic_hit(frame, ray, hit);
 }
 
@@ -38,11 +44,13 @@ bool scene_occluded(const Scene& scene, const DynamicFrame* frame, const Ray& ra
       if (intersect_sphere(ray.org, ray.dir, s, ray.tmin, ray.tmax, t)) return true;
     }
   }
+  if (!scene.volumes.empty() && volumes_occlude(scene, ray)) return true;
   return scene.accel.occluded(ray, frame_instances(frame));
 }
 
 SurfacePoint scene_surface_point(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
                                  const Hit& hit) {
+  if (is_volume_prim(hit.prim)) return volume_surface_point(scene, ray, hit);
   if (hit.inst != kInvalidId)
     return instance_surface_point(*scene.accel.top_in_use(frame_instances(frame)), ray, hit);
   if (!is_dynamic_prim(hit.prim) || !frame) return surface_point(scene.geometry, ray, hit);

@@ -1,4 +1,4 @@
-// Built-in scenes: "default", "cornell", "balls", "spheres:N[:SEED]", "bunny".
+// Built-in scenes: "default", "cornell", "balls", "spheres:N[:SEED]", "bunny" (volumes: builtin_volume.cpp).
 #include "core/scenes/builtin_scenes.h"
 
 #include <charconv>
@@ -185,6 +185,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   else if (name == "teapot") return make_teapot();
   else if (name == "room") return make_room();
   else if (name.rfind("spheres:", 0) == 0) scene = make_spheres(name);
+  else if (name.rfind("volume:", 0) == 0) return make_volume_scene(name);
   else if (name == "sunflowers") return make_sunflowers();
   else if (name.rfind("sunflowers:", 0) == 0) {
     auto n = parse_count(std::string_view(name).substr(11), name, "plant count");
@@ -201,7 +202,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   } else
     return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
                         "scene (default, cornell, showcase, balls, teapot, room, sunflowers[:N], "
-                        "sunflowers-flat:N, spheres:N[:SEED], bunny)"};
+                        "sunflowers-flat:N, spheres:N[:SEED], volume:KIND:N[:MODE], bunny)"};
   if (!scene) return scene;
   finalize_scene(**scene);
   return scene;
@@ -219,6 +220,9 @@ const char* builtin_scene_help() {
          "                     46000: about a billion triangles), cut-out leaves, a low sun\n"
          "  sunflowers-flat:N  the same N plants as one plain mesh (~21,000 triangles each on average)\n"
          "  spheres:N[:SEED]   N random spheres, 1 <= N <= 35000000, seeded (default seed 1)\n"
+         "  volume:KIND:N[:MODE]  a generated volume: KIND marschner-lobb, shepp-logan (N or\n"
+         "                     NXxNYxNZ: a CT-like head) or sphere (a distance field), N voxels a side;\n"
+         "                     MODE isosurface (default), direct (the volume shader) or mip\n"
          "  bunny              the Stanford bunny from Debian's glmark2-data\n"
          "Or a scene file (.json) or a mesh file (.obj, .ply).";
 }

@@ -19,6 +19,10 @@ std::unique_ptr<Scene> make_balls();
 // light, no Parker lights; rendered by the path tracer by default. Not yet finalized.
 std::unique_ptr<Scene> make_cornell();
 
+// "volume:KIND:SIZE[:MODE]" (builtin_volume.cpp): a generated grid (core/volume/volume_generators.h)
+// as an isosurface, through the volume shader (direct) or by MIP, over a floor. Finalized.
+Result<std::unique_ptr<Scene>> make_volume_scene(const std::string& name);
+
 // Materials of the built-in scenes, one per class (Parker's models, core/scene/material.h).
 Material diffuse(const char* name, Vec3 kd);
 Material metal(const char* name, Vec3 ks, float phong);

@@ -9,13 +9,14 @@
 #include "core/scene/scene_intersect.h"
 #include "core/scene/texturing.h"
 #include "core/shading/light_sampling.h"
+#include "core/shading/volume_lighting.h"
 
 namespace frameless {
 
 MaterialParams material_at(const Scene& scene, const DynamicFrame* frame, const Ray& ray,
                            const Hit& hit, SurfacePoint& sp) {
   MaterialParams m = frame_material(scene, frame, sp.material);
-  if (!m.textured() || is_dynamic_prim(hit.prim)) return m;
+  if (!m.textured() || is_dynamic_prim(hit.prim) || is_volume_prim(hit.prim)) return m;
   if (hit.inst != kInvalidId)
     apply_instance_textures(scene, *scene.accel.top_in_use(frame_instances(frame)), ray, hit, m, sp);
   else
@@ -25,13 +26,16 @@ MaterialParams material_at(const Scene& scene, const DynamicFrame* frame, const 
 
 namespace {
 
-bool occluded(const DirectLight& st, const Vec3& origin, const LightSample& ls) {
+// The share of a light sample's light that reaches origin: 0 when something blocks it, else what
+// the volume shader's volumes let through (1 without them).
+float visible(const DirectLight& st, const Vec3& origin, const LightSample& ls) {
   Ray r;
   r.org = origin;
   r.dir = ls.wi;
   r.tmin = 0.0f;
   r.tmax = ls.tmax;
-  return scene_occluded(st.scene, st.frame, r);
+  if (scene_occluded(st.scene, st.frame, r)) return 0.0f;
+  return st.scene.see_through_volumes ? volume_shadow(st.scene, r, false) : 1.0f;
 }
 
 }  // namespace
@@ -58,7 +62,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       contrib = (fs * w + fl) * ls.radiance * (c / ls.pdf);
     }
     if (absorbing) contrib *= beer(extinction, ls.tmax);
-    if (max_component(contrib) > 0.0f && !occluded(st, origin, ls)) sum += contrib;
+    if (max_component(contrib) > 0.0f) sum += contrib * visible(st, origin, ls);
   }
   if (!smooth || st.strategy == LightStrategy::kBsdfOnly) return sum;
   if (!st.scene.emitters.empty()) {
@@ -70,7 +74,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       if (c > 0.0f && max_component(f) > 0.0f) {
         const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
         const Vec3 t = absorbing ? beer(extinction, ls.tmax) : Vec3(1.0f);
-        if (!occluded(st, origin, ls)) sum += t * f * ls.radiance * (w * c / ls.pdf);
+        sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
       }
     }
   }
@@ -85,7 +89,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     if (max_component(f) > 0.0f) {
       const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
       const Vec3 t = absorbing ? beer(extinction, kInfinity) : Vec3(1.0f);
-      if (!occluded(st, origin, ls)) sum += t * f * ls.radiance * (w * c / ls.pdf);
+      sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
     }
   }
   return sum;

@@ -13,6 +13,7 @@
 #include "core/shading/light_sampling.h"
 #include "core/shading/path_material.h"
 #include "core/shading/optics.h"
+#include "core/shading/volume_lighting.h"
 #include "core/shading/vpl.h"
 
 namespace frameless {
@@ -111,6 +112,13 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
     Hit hit;
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
+    if (scene.see_through_volumes) {  // the volume shader's light on the way, and its shade
+      const ParkerVolumeLighting lighting(scene, frame);
+      const VolumeSegment seg = volumes_along(scene, ray, found ? hit.t : kInfinity, &lighting);
+      radiance += beta * seg.color;
+      beta *= seg.transmittance;
+      if (!(max_component(beta) > 0.0f)) break;
+    }
     if (!found) {  // seen from the camera or through mirrors and glass
       radiance += beta * beer(extinction, kInfinity) *
                   escaped_radiance(scene.environment.get(), scene.settings.background, ray.dir);

@@ -10,6 +10,7 @@
 #include "core/shading/direct_light.h"
 #include "core/shading/light_sampling.h"
 #include "core/shading/path_material.h"
+#include "core/shading/volume_lighting.h"
 
 namespace frameless {
 namespace {
@@ -41,6 +42,13 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     Hit hit;
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
+    if (scene.see_through_volumes) {  // the volume shader's light on the way, and its shade
+      const ParkerVolumeLighting lighting(scene, frame);
+      const VolumeSegment seg = volumes_along(scene, ray, found ? hit.t : kInfinity, &lighting);
+      radiance += beta * seg.color;
+      beta *= seg.transmittance;
+      if (!(max_component(beta) > 0.0f)) break;
+    }
     // Parker's lights with an extent, reached by a BSDF-sampled ray before any surface.
     if (smooth_bounce && st.extended_lights && st.strategy != LightStrategy::kLightOnly) {
       for (const Light& light : frame_lights(scene, frame)) {
@@ -71,7 +79,7 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     if (bounce == 0 && first_albedo) *first_albedo = guide_albedo(m);
     if (max_component(m.emission) > 0.0f) {
       float w = 1.0f;  // seen from the camera, a mirror, or an emitter light sampling cannot pick
-      const uint32_t index = !smooth_bounce || hit.inst != kInvalidId || is_dynamic_prim(hit.prim)
+      const uint32_t index = !smooth_bounce || hit.inst != kInvalidId || is_dynamic_prim(hit.prim) || is_volume_prim(hit.prim)
                                  ? kInvalidId
                                  : scene.emitters.find(hit.prim);
       if (index != kInvalidId)

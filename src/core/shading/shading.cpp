@@ -24,6 +24,7 @@
 #include "core/scene/instance_texturing.h"
 #include "core/scene/scene_analysis.h"
 #include "core/scene/scene_intersect.h"
+#include "core/shading/volume_lighting.h"
 #include "core/scene/texturing.h"
 #include "core/shading/soft_shadow.h"
 
@@ -128,21 +129,28 @@ template <class F>
       f(light.color, l, nl);
       continue;
     }
-    if (transparent || (extended_mode && light.has_extent())) {
-      const Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle, sp.prim);
-      if (max_component(s) > 0.0f) f(light.color * s, l, nl);
-      continue;
-    }
     Ray shadow;
     shadow.org = origin;
     shadow.dir = l;
     shadow.tmin = 0.0f;
     shadow.tmax = tmax;
+    if (transparent || (extended_mode && light.has_extent())) {
+      Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle, sp.prim);
+      // The cone query sees no volume: isosurfaces block, the volume shader's volumes dim.
+      if (!scene.volumes.empty() && max_component(s) > 0.0f) s *= volume_shadow(scene, shadow, true);
+      if (max_component(s) > 0.0f) f(light.color * s, l, nl);
+      continue;
+    }
     if (c.any_hit) {
       if (scene_occluded(scene, c.frame, shadow)) continue;
     } else {
       Hit blocker;  // ablation: closest-hit traversal for the same visibility question
       if (scene_intersect(scene, c.frame, shadow, blocker)) continue;
+    }
+    if (scene.see_through_volumes) {  // transparent shadows of the volume shader's volumes
+      const float t = volume_shadow(scene, shadow, false);
+      if (t > 0.0f) f(light.color * t, l, nl);
+      continue;
     }
     f(light.color, l, nl);
   }
@@ -288,7 +296,7 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
   const MaterialParams& base = frame_material(c.scene, c.frame, sp.material);
   // Untextured materials are shaded in place: no texture coordinate is ever computed for them.
   // Dynamic objects have no texture coordinates either (their frame moves per sample).
-  if (!base.textured() || is_dynamic_prim(hit.prim))
+  if (!base.textured() || is_dynamic_prim(hit.prim) || is_volume_prim(hit.prim))
     return emitted(c, base, shade_material<F>(c, ray, base, sp, depth, weight, medium));
   MaterialParams m = base;
   SurfacePoint tsp = sp;
@@ -309,11 +317,13 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
   bool found;
   if (known_hit) {  // a packet already traced the static scene: add what moves
     hit = *known_hit;
-    found = merge_dynamic_hit(c.frame, ray, hit);
+    found = merge_nonstatic_hits(scene, c.frame, ray, hit);
   } else {
     found = scene_intersect(scene, c.frame, ray, hit);
   }
   if (first_hit) *first_hit = hit;
+  // Volume-shader and MIP volumes between the origin and what the ray meets (a no-op without).
+  const auto seen = [&](const Vec3& behind) { return through_volumes(scene, c.frame, ray, found ? hit.t : kInfinity, behind); };
   if (!found) {
     Vec3 bg = escaped_radiance(scene.environment.get(), scene.settings.background, ray.dir);
     // An escaping ray inside an absorbing medium travels forever: exp(-kappa inf) = 0.
@@ -321,16 +331,16 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
       if (medium)
         for (int k = 0; k < 3; ++k)
           if (medium->extinction[k] > 0.0f) bg[k] = 0.0f;
-    return bg;
+    return seen(bg);
   }
   const SurfacePoint sp = scene_surface_point(scene, c.frame, ray, hit);
   if (first_point) *first_point = sp;
   if constexpr ((F & kShadeAbsorption) == 0) {
     // No absorbing medium in the scene: light is never attenuated between surfaces.
-    return shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium);
+    return seen(shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium));
   } else {
     if (!medium || max_component(medium->extinction) <= 0.0f)
-      return shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium);
+      return seen(shade_surface_path<F>(c, ray, hit, sp, depth, weight, medium));
     // Light travelling inside a dielectric decays as exp(-kappa t), t the distance between the
     // two surface points (not hit.t, which starts at the offset origin).
     const float t = glm::length(sp.p - start);
@@ -341,7 +351,7 @@ Vec3 trace_from(const ShadeContext& c, const Ray& ray, const Vec3& start, int de
     // Prune a branch the medium has already dimmed below the threshold.
     const float wmax = max_component(w);
     if (wmax <= 0.0f || wmax < c.min_weight) return Vec3(0.0f);
-    return attenuation * shade_surface_path<F>(c, ray, hit, sp, depth, w, medium);
+    return seen(attenuation * shade_surface_path<F>(c, ray, hit, sp, depth, w, medium));
   }
 }
 

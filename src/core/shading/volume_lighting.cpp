@@ -1,0 +1,34 @@
+// Lighting volume-shader samples, and the volumes' share of a ray's and a shadow ray's light.
+#include "core/shading/volume_lighting.h"
+
+#include <cmath>
+
+#include "core/shading/shading.h"
+
+namespace frameless {
+
+Vec3 ParkerVolumeLighting::light(const Vec3& p, const Vec3& n) const {
+  if (n == Vec3(0.0f)) return Vec3(1.0f);
+  Vec3 sum = ambient_light(scene_.ambient, p, n);
+  for (const Light& l : frame_lights(scene_, frame_)) {
+    const Vec3 d = l.kind == LightKind::kDirectional ? -l.direction : l.position - p;
+    const float len = glm::length(d);
+    if (len > 0.0f) sum += l.color * std::abs(glm::dot(n, d / len));
+  }
+  return sum;
+}
+
+Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, const Vec3& behind) {
+  if (!scene.see_through_volumes) return behind;
+  const ParkerVolumeLighting lighting(scene, frame);
+  const VolumeSegment seg = volumes_along(scene, ray, t_end, &lighting);
+  return seg.color + seg.transmittance * behind;
+}
+
+float volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces) {
+  if (scene.volumes.empty()) return 1.0f;
+  if (isosurfaces && volumes_occlude(scene, ray)) return 0.0f;
+  return scene.see_through_volumes ? volumes_transmittance(scene, ray) : 1.0f;
+}
+
+}  // namespace frameless

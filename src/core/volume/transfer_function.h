@@ -1,0 +1,49 @@
+// OpenRT's volume shader maps each sample's value to colour and opacity through a transfer
+// function: piecewise linear between points sorted by value (JSON points or a named preset over
+// the grid's value range). Opacity is per `unit` voxels of path: the volume shader corrects it
+// for its actual step, so images do not depend on the sampling rate.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/base/error.h"
+#include "core/base/types.h"
+
+namespace frameless {
+
+struct TransferPoint {
+  float value = 0.0f;
+  Vec3 color{1.0f};
+  float opacity = 0.0f;  // in [0, 1], per unit voxels
+};
+
+class TransferFunction {
+ public:
+  static constexpr int kTable = 1024;  // entries of the lookup table over [lo, hi]
+  // Points sorted by strictly increasing value, at least two, colours finite and non-negative,
+  // opacities in [0, 1]; `what` names the field in errors.
+  static Result<TransferFunction> make(std::vector<TransferPoint> points, const std::string& what);
+  // Presets over [lo, hi] (the grid's range): "ct-bone", "ct-skin", "grayscale", "hot", "cool-warm".
+  static Result<TransferFunction> preset(const std::string& name, float lo, float hi, const std::string& what);
+  static const char* preset_names();  // for messages and --help
+
+  // Colour and opacity at value v (clamped to the end points), from the table.
+  void lookup(float v, Vec3& color, float& opacity) const {
+    const float x = (v - lo_) * scale_;
+    const int i = x <= 0.0f ? 0 : x >= float(kTable - 1) ? kTable - 1 : int(x + 0.5f);
+    color = color_[size_t(i)];
+    opacity = opacity_[size_t(i)];
+  }
+  // The largest opacity over values [a, b] (macrocells holding only transparent values are skipped).
+  float max_opacity(float a, float b) const;
+  const std::vector<TransferPoint>& points() const { return points_; }
+
+ private:
+  std::vector<TransferPoint> points_;
+  float lo_ = 0.0f, scale_ = 0.0f;
+  std::vector<Vec3> color_;
+  std::vector<float> opacity_;
+  void exact(float v, Vec3& color, float& opacity) const;  // piecewise linear, not tabulated
+};
+
+}  // namespace frameless

@@ -1,0 +1,117 @@
+// Ray marching through a grid: fixed-phase samples, macrocell skipping, opacity correction.
+#include "core/volume/volume_march.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/volume/isosurface.h"
+
+namespace frameless {
+namespace {
+
+template <class T>
+inline float sample(const T* v, const VolumeGrid& g, const Vec3& p) {
+  const int x = std::clamp(int(p.x), 0, g.nx - 2), y = std::clamp(int(p.y), 0, g.ny - 2),
+            z = std::clamp(int(p.z), 0, g.nz - 2);
+  const float u = p.x - float(x), w1 = p.y - float(y), w2 = p.z - float(z);
+  const size_t sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
+  const T* c = v + g.index(x, y, z);
+  const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
+  const float c00 = lerp(float(c[0]), float(c[1]), u), c10 = lerp(float(c[sy]), float(c[sy + 1]), u);
+  const float c01 = lerp(float(c[sz]), float(c[sz + 1]), u), c11 = lerp(float(c[sz + sy]), float(c[sz + sy + 1]), u);
+  return lerp(lerp(c00, c10, w1), lerp(c01, c11, w1), w2);
+}
+
+// Walks the samples of [t0, t1]: sample k stands for the stretch [t0 + k dt, t0 + (k + 1) dt] cut
+// to the part inside the grid and the segment, and is taken at the stretch's middle (clamped into
+// the grid), so a segment's samples cover exactly its length whatever its ends. Calls
+// visit(p, fraction of dt covered) for each (false stops); jumps over macrocells of zero opacity.
+template <class Visit>
+uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, Visit&& visit) {
+  const VolumeGrid& g = *s.grid;
+  float a = t0, b = t1;
+  const Vec3 top = g.extent() / g.spacing;
+  if (!clip_to_box(Vec3(0.0f), top, org, dir, a, b) || !(b > a)) return 0;
+  const float len = glm::length(dir);
+  if (!(len > 0.0f)) return 0;
+  const float dt = s.step / len;
+  const Macrocells* m = s.cell_opacity ? s.cells : nullptr;
+  uint32_t taken = 0;
+  for (int64_t k = int64_t(std::floor((a - t0) / dt));; ++k) {
+    const float lo = std::max(a, t0 + float(k) * dt), hi = std::min(b, t0 + float(k + 1) * dt);
+    if (lo >= b) break;
+    if (!(hi > lo)) continue;
+    const Vec3 p = glm::clamp(org + (t0 + (float(k) + 0.5f) * dt) * dir, Vec3(0.0f), top);
+    if (m) {
+      const int cx = std::clamp(int(p.x), 0, g.nx - 2) / m->size, cy = std::clamp(int(p.y), 0, g.ny - 2) / m->size,
+                cz = std::clamp(int(p.z), 0, g.nz - 2) / m->size;
+      if ((*s.cell_opacity)[m->index(cx, cy, cz)] <= 0.0f) {
+        // On to the stretch where the ray leaves this macrocell's box (its samples are transparent).
+        const Vec3 box = Vec3(float(cx), float(cy), float(cz)) * float(m->size);
+        float e0 = a, e1 = b;
+        if (clip_to_box(box, box + float(m->size), org, dir, e0, e1)) k = std::max(k, int64_t(std::floor((e1 - t0) / dt)) - 1);
+        continue;
+      }
+    }
+    ++taken;
+    if (!visit(p, (hi - lo) / dt)) break;
+  }
+  return taken;
+}
+
+}  // namespace
+
+std::vector<float> macrocell_opacity(const Macrocells& cells, const TransferFunction& tf) {
+  std::vector<float> out(cells.lo.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = tf.max_opacity(cells.lo[i], cells.hi[i]);
+  return out;
+}
+
+VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1,
+                           const SampleLighting* lighting) {
+  VolumeSegment out;
+  with_voxels(*s.grid, [&](const auto* v) {
+    out.samples = walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
+      Vec3 c;
+      float a;
+      s.tf->lookup(sample(v, *s.grid, p), c, a);
+      if (a <= 0.0f) return true;
+      a = 1.0f - std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);  // per voxel -> per stretch
+      if (lighting) c *= lighting->light(p, trilinear_gradient(*s.grid, p));
+      out.color += out.transmittance * a * c;
+      out.transmittance *= 1.0f - a;
+      return out.transmittance >= 1e-3f;
+    });
+  });
+  return out;
+}
+
+float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1) {
+  float t = 1.0f;
+  with_voxels(*s.grid, [&](const auto* v) {
+    walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
+      Vec3 c;
+      float a;
+      s.tf->lookup(sample(v, *s.grid, p), c, a);
+      if (a > 0.0f) t *= std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);
+      return t >= 1e-3f;
+    });
+  });
+  return t < 1e-3f ? 0.0f : t;
+}
+
+bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value) {
+  MarchSetup plain = s;
+  plain.cell_opacity = nullptr;  // every sample counts, transparent or not
+  float best = -kInfinity;
+  const uint32_t n = with_voxels(*s.grid, [&](const auto* v) {
+    return walk_samples(plain, org, dir, t0, t1, [&](const Vec3& p, float) {
+      best = std::max(best, sample(v, *s.grid, p));
+      return true;
+    });
+  });
+  value = best;
+  return n > 0;
+}
+
+}  // namespace frameless
