@@ -68,6 +68,7 @@ int run(const ViewArgs& a) {
     };
     o.title += " - " + std::to_string(cluster.session->clients()) + " clients";
   }
+  if (!cluster.master()) o.editable_scene = scene.get();  // the volume keys
   auto r = run_viewer(*scene, o);
   if (!r.ok()) {
     std::fprintf(stderr, "frameless: %s\n", r.error().message.c_str());

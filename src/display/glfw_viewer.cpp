@@ -22,6 +22,7 @@
 #include "display/levels_view.h"
 #include "display/manifest.h"
 #include "display/png_io.h"
+#include "display/volume_keys.h"
 #include "frameless/engine.h"
 
 namespace frameless {
@@ -33,7 +34,8 @@ const std::vector<std::string> kHelp = {
     ", .: update % -/+   G T: threads -/+",  "P: save EXR snapshot  H/F1: help",
     "arrows, PgUp/PgDn: move the light (or the grabbed instance)",
     "I: grab/release the instance at the centre of the view",     "O: overlay on/off  Esc: quit",
-    "J: reprojection on/off  K: temporal blend weights on/off"};
+    "J: reprojection on/off  K: temporal blend weights on/off",
+    "Z X: isovalue -/+   B: next transfer function (volumes)"};
 
 std::string glfw_error_text;
 void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unknown error"; }
@@ -132,6 +134,7 @@ struct Viewer {
         break;
       default: break;
     }
+    if (opt.editable_scene && is_volume_key(*opt.editable_scene, k)) return edit_volume(k);
     switch (k) {
       case GLFW_KEY_M:
         engine->set_mode(engine->config().mode == RenderMode::frameless ? RenderMode::conventional
@@ -165,6 +168,20 @@ struct Viewer {
       case GLFW_KEY_T: engine->set_threads(std::min(256, engine->thread_count() + 1)); break;
       case GLFW_KEY_I: grab_or_release(); break;
       default: return;
+    }
+    dirty = true;
+  }
+
+  // Volume keys (display/volume_keys.h): the render threads stop while the scene changes, then
+  // every pixel restarts (the same camera, published again, is a new epoch).
+  void edit_volume(int k) {
+    if (opt.fixed_layout) {
+      status = "cluster: volumes fixed";
+    } else {
+      engine->stop();
+      status = edit_volumes(*opt.editable_scene, k);
+      engine->start();
+      engine->publish_camera(camera);
     }
     dirty = true;
   }

@@ -34,6 +34,8 @@ struct ViewerOptions {
   // the image keeps opt.engine's size (the window scales it) and M, G, T, ',' and '.' are off.
   std::function<void(Engine*)> engine_hook;
   bool fixed_layout = false;
+  // The scene itself when the viewer may change it (the volume keys); null: it may not.
+  Scene* editable_scene = nullptr;
 };
 
 // Opens the window and runs until it is closed (Esc), the script quits or max_frames is reached.

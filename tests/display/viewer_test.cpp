@@ -107,6 +107,29 @@ TEST(Viewer, SmokeTestUnderXvfb) {
   EXPECT_NE(path->keyframes.front().camera.eye, path->keyframes.back().camera.eye);
 }
 
+TEST(Viewer, VolumeKeysMoveTheIsovalueUnderXvfb) {
+  if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb): viewer volume test skipped";
+  const fs::path dir = scratch();
+  const fs::path before = dir / "before.exr", after = dir / "after.exr", same = dir / "same.exr";
+  // X five times raises the sphere's isovalue by 10 % of the distance range: a bigger sphere.
+  // B (no volume-shader volume here) changes nothing: two screenshots around it stay alike.
+  std::ofstream(dir / "script.txt") << "0.1 key O\n"
+                                    << "1.2 screenshot " << before.string() << "\n"
+                                    << "1.3 key B\n"
+                                    << "2.4 screenshot " << same.string() << "\n"
+                                    << "2.5 key X\n2.55 key X\n2.6 key X\n2.65 key X\n2.7 key X\n"
+                                    << "4.0 screenshot " << after.string() << "\n"
+                                    << "4.1 quit\n";
+  const std::string cmd = std::string(kChildLeakCheck) + "xvfb-run -a -s '-screen 0 320x240x24' " +
+                          std::string(FRAMELESS_BINARY) + " view volume:sphere:24 --size 96x64 --threads 2 --script " +
+                          (dir / "script.txt").string() + " > " + (dir / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "log.txt");
+  auto a = read_exr(before.string()), b = read_exr(after.string()), c = read_exr(same.string());
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok()) << slurp(dir / "log.txt");
+  EXPECT_LT(mean_difference(*a, *c), 0.01);  // B: nothing to switch
+  EXPECT_GT(mean_difference(*a, *b), 0.02);  // X: the surface moved
+}
+
 TEST(Viewer, NoDisplayIsOneClearLine) {
   const fs::path dir = scratch();
   const std::string cmd = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(FRAMELESS_BINARY) +

@@ -105,7 +105,7 @@ VolumeSegment volumes_along(const Scene& scene, const Ray& ray, float t_end, con
     VolumeSegment seg;
     if (v.mode == VolumeMode::kMip) {
       float value;
-      if (!march_maximum(v.march(), o, d, spans[i].a, spans[i].b, value)) continue;
+      if (!march_maximum(v.march(), o, d, spans[i].a, spans[i].b, value, &seg.samples)) continue;
       Vec3 c;
       float alpha;
       v.tf->lookup(value, c, alpha);

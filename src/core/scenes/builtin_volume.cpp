@@ -31,7 +31,7 @@ Result<std::unique_ptr<Scene>> make_volume_scene(const std::string& name) {
     v.mode = VolumeMode::kIsosurface;
     // The signal's usual level (Marschner-Lobb), the skull (Shepp-Logan), a sphere of a third
     // of the grid (distances: inside below).
-    const float iso = kind == "marschner-lobb" ? 0.5f : kind == "shepp-logan" ? 2400.0f : float(g.nx - 1) / 3.0f;
+    const float iso = kind == "marschner-lobb" ? 0.5f : kind == "shepp-logan" ? 1600.0f : float(g.nx - 1) / 3.0f;
     v.isovalues = {iso};
     v.inside_above = kind != "sphere";
     v.iso_materials = {add_material(*s, kind == "shepp-logan" ? polished("bone", Vec3(0.9f, 0.85f, 0.72f), 0.04f)

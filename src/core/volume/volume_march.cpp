@@ -100,7 +100,8 @@ float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir,
   return t < 1e-3f ? 0.0f : t;
 }
 
-bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value) {
+bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value,
+                   uint32_t* samples) {
   MarchSetup plain = s;
   plain.cell_opacity = nullptr;  // every sample counts, transparent or not
   float best = -kInfinity;
@@ -111,6 +112,7 @@ bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float 
     });
   });
   value = best;
+  if (samples) *samples = n;
   return n > 0;
 }
 

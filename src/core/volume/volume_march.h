@@ -46,6 +46,7 @@ VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir
 float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1);
 // The largest interpolated value over the samples (maximum intensity projection); false when no
 // sample lies in [t0, t1].
-bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value);
+bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value,
+                   uint32_t* samples = nullptr);
 
 }  // namespace frameless
