@@ -11,6 +11,7 @@
 #include "bench/bench_live.h"
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
+#include "bench/bench_volume_mesh.h"
 #include "core/io/scene_json.h"
 #include "core/scene/scene_volumes.h"
 #include "core/volume/volume_generators.h"
@@ -29,6 +30,7 @@ std::string scene_json(const std::string& raw, int nx, int ny, int nz, const std
   if (mode == "isosurface") render = R"("isovalue": 1600, "material": "bone")";
   else if (mode == "direct") render = R"("mode": "direct", "transfer": "ct-bone")";
   else render = R"("mode": "mip", "transfer": "grayscale")";
+  const std::string volume = mode == "mesh" ? "" : ",\n      {\"type\": \"volume\"";
   // The phantom fills [-1, 1] on every axis, whatever the voxel counts (as the generator samples
   // it): the spacing says so, and the head stands up (its z is our y) around the origin.
   char place[256];
@@ -36,12 +38,14 @@ std::string scene_json(const std::string& raw, int nx, int ny, int nz, const std
                 R"("spacing": [%.9g, %.9g, %.9g], "transform": {"translate": [-1, -1, 1], "rotate": {"axis": [1, 0, 0], "degrees": -90}})",
                 2.0 / (nx - 1), 2.0 / (ny - 1), 2.0 / (nz - 1));
   return std::string(R"({"camera": {"eye": [1.6, 0.9, 3.6], "look": [0, -0.1, 0], "fov": 38},
-    "settings": {"background": [0.12, 0.13, 0.16], "shadows": "soft"},
+    "settings": {"background": [0.12, 0.13, 0.16], "shadows": "hard"},
     "lights": [{"type": "spherical", "position": [2.5, 4, 3], "radius": 0.3, "color": 0.9}],
     "materials": {"bone": {"class": "polished", "kd": [0.9, 0.85, 0.72], "r0": 0.04}, "floor": {"class": "diffuse", "kd": 0.55}},
-    "objects": [{"type": "plane", "point": [0, -1.05, 0], "normal": [0, 1, 0], "size": 8, "material": "floor"},
-      {"type": "volume", "file": ")") + raw + R"(", "dims": [)" + std::to_string(nx) + ", " + std::to_string(ny) + ", " +
-         std::to_string(nz) + R"(], "format": "uint16", )" + place + ", " + render + "}]}";
+    "objects": [{"type": "plane", "point": [0, -1.05, 0], "normal": [0, 1, 0], "size": 8, "material": "floor"})") +
+         (mode == "mesh" ? std::string("]}")
+                         : volume + R"(, "file": ")" + raw + R"(", "dims": [)" + std::to_string(nx) + ", " +
+                               std::to_string(ny) + ", " + std::to_string(nz) + R"(], "format": "uint16", )" + place +
+                               ", " + render + "}]}");
 }
 
 // Macrocells the mode skips outright: ranges without the isovalue, or of zero opacity.
@@ -133,9 +137,23 @@ int run_volume(const VolumeOptions& a) {
       sched.duration = a.quick ? 0.5 : a.seconds;
       const LiveResult r = run_live(**scene, live, sched);
       mj["live_samples_per_s"] = r.samples_per_s;
+      if (v.mode == VolumeMode::kIsosurface) mj["volume_bytes_with_macrocells"] = data_bytes + double(v.cells->lo.size()) * 8.0;
       mj["live_image_refreshes_per_s"] = r.samples_per_s / 2.0 / (double(w) * h);  // 2 jittered samples a visit
       mj["resident_over_data_after_rendering"] = (rss_bytes() - rss0) / data_bytes;
       modes[mode] = mj;
+    }
+    // 5. The same isosurface as a mesh through the BVH, last (its memory would count in the
+    // modes' figures otherwise), against a fresh frame of Parker's isosurface.
+    {
+      bench_progress("volume", "meshing the isosurface (marching tetrahedra) and tracing it");
+      auto scene = parse_scene_json(scene_json(raw, nx, ny, nz, "isosurface"), dir + "/volume.json", dir);
+      if (!scene) return report_error(scene.error().message);
+      TileRenderOptions o;
+      o.spp = a.spp;
+      o.threads = threads;
+      const RenderedImage img = render_tiles(**scene, make_camera_basis((*scene)->camera, w, h), o);
+      modes["isosurface"]["mesh"] = compare_with_mesh(**scene, scene_json(raw, nx, ny, nz, "mesh"), dir, w, h, a.spp,
+                                                      threads, img.rgb, img.seconds);
     }
     j["modes"] = modes;
     j["peer"] = "vdb_render (OpenVDB) not run: frameless does not read .vdb files yet";
@@ -162,6 +180,17 @@ int run_volume(const VolumeOptions& a) {
       std::printf(", %.1f M volume samples/s", m["volume_samples_per_s"].get<double>() / 1e6);
     std::printf("; live: %.2f M samples/s, %.1f image refreshes/s\n", m["live_samples_per_s"].get<double>() / 1e6,
                 m["live_image_refreshes_per_s"].get<double>());
+    if (m.contains("mesh")) {
+      const auto& me = m["mesh"];
+      std::printf("             as a mesh (marching tetrahedra): %.2f M triangles in %.1f s, BVH %.1f s, %.0f MB "
+                  "(the volume: %.0f MB); frame %.3f s (%.2f M samples/s): Parker's isosurface takes %.2fx its time; "
+                  "RMSE between the two %.4f\n",
+                  me["triangles"].get<double>() / 1e6, me["mesh_seconds"].get<double>(),
+                  me["bvh_build_seconds"].get<double>(), me["resident_bytes_mesh_and_bvh"].get<double>() / 1e6,
+                  m["volume_bytes_with_macrocells"].get<double>() / 1e6, me["frame_seconds"].get<double>(),
+                  me["samples_per_s"].get<double>() / 1e6, me["isosurface_over_mesh_time"].get<double>(),
+                  me["rmse_against_isosurface"].get<double>());
+    }
   }
   std::printf("  peer: %s\n", j["peer"].get<std::string>().c_str());
   return 0;

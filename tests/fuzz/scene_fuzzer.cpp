@@ -341,7 +341,7 @@ void run_wire(const std::string& input) {
 // A volume that loads holds exactly its voxels, a sane range, and its macrocells hold that range.
 void run_volume(const Result<std::shared_ptr<const VolumeGrid>>& r) {
   if (!r) return check_error(r.error());
-  const VolumeGrid& g = **r;
+  const VolumeGrid& g = *r.value();
   if (g.storage->size() != g.voxels() * voxel_bytes(g.type)) broken("volume storage size", std::to_string(g.storage->size()));
   if (!(g.min_value <= g.max_value) || !std::isfinite(g.min_value) || !std::isfinite(g.max_value))
     broken("volume value range", std::to_string(g.min_value) + " " + std::to_string(g.max_value));
