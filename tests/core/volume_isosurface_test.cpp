@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/volume/isosurface.h"
+#include "core/volume/marching_tetrahedra.h"
 #include "core/volume/volume_generators.h"
 
 namespace frameless {
@@ -153,6 +154,28 @@ TEST(Isosurface, MacrocellsNeverChangeAHit) {
     for (size_t k = 0; k < m.lo.size(); ++k) skipped_cells += !(m.lo[k] <= iso && iso <= m.hi[k]);
     EXPECT_GT(skipped_cells, 0) << name;  // the test has power: some macrocells are skipped
   }
+}
+
+TEST(MarchingTetrahedra, MeshesTheSphereWithOutwardFaces) {
+  const auto g = make_sphere_distance(24);
+  const Macrocells m = build_macrocells(*g);
+  const Vec3 c(11.5f);
+  const IsoMesh mesh = marching_tetrahedra(*g, m, 8.0f, false);  // inside: below (a distance field)
+  ASSERT_GT(mesh.positions.size(), 3000u);
+  ASSERT_EQ(mesh.positions.size() % 3, 0u);
+  ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); i += 3) {
+    const Vec3 &a = mesh.positions[i], &b = mesh.positions[i + 1], &d = mesh.positions[i + 2];
+    for (const Vec3& p : {a, b, d}) ASSERT_NEAR(glm::length(p - c), 8.0f, 0.1f);  // on the sphere
+    const Vec3 out = glm::normalize((a + b + d) / 3.0f - c);
+    EXPECT_GT(glm::dot(glm::normalize(glm::cross(b - a, d - a)), out), 0.5f) << i;  // wound outwards
+    EXPECT_GT(glm::dot(mesh.normals[i], out), 0.95f) << i;                          // gradient normals
+  }
+  // The macrocells skip nothing that holds the isovalue: the same mesh without skipping anything.
+  Macrocells all = m;
+  std::fill(all.lo.begin(), all.lo.end(), g->min_value);
+  std::fill(all.hi.begin(), all.hi.end(), g->max_value);
+  EXPECT_EQ(marching_tetrahedra(*g, all, 8.0f, false).positions.size(), mesh.positions.size());
 }
 
 TEST(Generators, NamesSizesAndValues) {
