@@ -112,8 +112,8 @@ std::string voxel_bytes_of(VoxelType type, bool big_endian, int nan_at = -1) {
     char b[4];
     const float v = i == nan_at ? std::numeric_limits<float>::quiet_NaN() : value(type, i);
     const size_t n = voxel_bytes(type);
-    const uint8_t u8 = uint8_t(v);
-    const uint16_t u16 = uint16_t(v);
+    const uint8_t u8 = n == 1 ? uint8_t(v) : 0;  // converted only into its own type (UBSan)
+    const uint16_t u16 = n == 2 ? uint16_t(v) : 0;
     std::memcpy(b, n == 1 ? static_cast<const void*>(&u8) : n == 2 ? static_cast<const void*>(&u16) : &v, n);
     if (big_endian) std::reverse(b, b + n);  // this test runs little-endian (x86, ARM)
     out.append(b, n);
