@@ -8,7 +8,7 @@ build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopene
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
   libopenmpi-dev openmpi-bin)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3)
-bench_pkgs=(libembree-dev gnuplot blender)
+bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy)
 docs_pkgs=(graphviz python3)  # tools/architecture.sh: dot draws docs/architecture.svg, python3 styles it
 
 want=("${build_pkgs[@]}")

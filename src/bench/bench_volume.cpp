@@ -12,6 +12,7 @@
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "bench/bench_volume_mesh.h"
+#include "bench/volume_peer.h"
 #include "core/io/scene_json.h"
 #include "core/scene/scene_volumes.h"
 #include "core/volume/volume_generators.h"
@@ -156,7 +157,9 @@ int run_volume(const VolumeOptions& a) {
                                                       threads, img.rgb, img.seconds);
     }
     j["modes"] = modes;
-    j["peer"] = "vdb_render (OpenVDB) not run: frameless does not read .vdb files yet";
+    // 6. OpenVDB's vdb_render on the same level set and camera (bench-only peer).
+    bench_progress("volume", "vdb_render on the same level set");
+    j["peer"] = compare_with_vdb_render(a.quick ? 64 : 256, w, h, threads, dir);
     if (!a.keep) std::filesystem::remove(raw);
   } catch (const std::exception& e) {
     return report_error(e.what());
@@ -192,7 +195,19 @@ int run_volume(const VolumeOptions& a) {
                   me["rmse_against_isosurface"].get<double>());
     }
   }
-  std::printf("  peer: %s\n", j["peer"].get<std::string>().c_str());
+  const auto& peer = j["peer"];
+  if (peer.contains("skipped")) {
+    std::printf("  peer vdb_render: skipped (%s)\n", peer["skipped"].get<std::string>().c_str());
+  } else {
+    std::printf("  peer vdb_render on a %s, primary hits at %dx%d: vdb_render %.3f s (%.2f M rays/s), frameless %.3f s "
+                "(%.2f M rays/s): %.2fx its speed; hit points within a voxel %.1f %% (mean %.3f, max %.2f voxels), "
+                "%zu pixels hit by only one\n",
+                peer["grid"].get<std::string>().c_str(), w, h, peer["vdb_render_seconds"].get<double>(),
+                peer["vdb_render_rays_per_s"].get<double>() / 1e6, peer["frameless_seconds"].get<double>(),
+                peer["frameless_rays_per_s"].get<double>() / 1e6, peer["frameless_over_vdb_render_speed"].get<double>(),
+                100 * peer["hits_within_one_voxel"].get<double>(), peer["mean_distance_voxels"].get<double>(),
+                peer["max_distance_voxels"].get<double>(), peer["pixels_hit_by_one"].get<size_t>());
+  }
   return 0;
 }
 
