@@ -32,7 +32,12 @@ Error fail_at(const std::string& path, int line, const std::string& field, const
 }
 
 // Input quoted in a message, cut short so that a line of garbage stays readable.
-std::string quote(std::string_view s) { return "'" + std::string(s.substr(0, 60)) + (s.size() > 60 ? "...'" : "'"); }
+std::string quote(std::string_view s) {
+  std::string out = "'";
+  out.append(s.substr(0, 60));
+  out += s.size() > 60 ? "...'" : "'";
+  return out;
+}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);

@@ -98,7 +98,8 @@ VolumeSegment volumes_along(const Scene& scene, const Ray& ray, float t_end, con
     float a = ray.tmin, b = std::min(t_end, ray.tmax);
     if (in_bounds(v, ray, a, b) && b > a) spans[n++] = {&v, a, b};
   }
-  std::sort(spans, spans + n, [](const Span& x, const Span& y) { return x.a < y.a; });
+  for (int i = 1; i < n; ++i)  // insertion sort: a handful of spans
+    for (int k = i; k > 0 && spans[k].a < spans[k - 1].a; --k) std::swap(spans[k], spans[k - 1]);
   for (int i = 0; i < n && total.transmittance > 0.0f; ++i) {
     const VolumeObject& v = *spans[i].v;
     const Vec3 o = v.to_index.point(ray.org), d = v.to_index.vector(ray.dir);

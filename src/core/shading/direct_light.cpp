@@ -62,7 +62,8 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       contrib = (fs * w + fl) * ls.radiance * (c / ls.pdf);
     }
     if (absorbing) contrib *= beer(extinction, ls.tmax);
-    if (max_component(contrib) > 0.0f) sum += contrib * visible(st, origin, ls);
+    if (max_component(contrib) > 0.0f)
+      if (const float v = visible(st, origin, ls); v > 0.0f) sum += contrib * v;
   }
   if (!smooth || st.strategy == LightStrategy::kBsdfOnly) return sum;
   if (!st.scene.emitters.empty()) {
@@ -74,7 +75,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       if (c > 0.0f && max_component(f) > 0.0f) {
         const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
         const Vec3 t = absorbing ? beer(extinction, ls.tmax) : Vec3(1.0f);
-        sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
+        if (const float v = visible(st, origin, ls); v > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
       }
     }
   }
@@ -89,7 +90,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     if (max_component(f) > 0.0f) {
       const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
       const Vec3 t = absorbing ? beer(extinction, kInfinity) : Vec3(1.0f);
-      sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
+      if (const float v = visible(st, origin, ls); v > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
     }
   }
   return sum;
