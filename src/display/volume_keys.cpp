@@ -46,8 +46,8 @@ std::string edit_volumes(Scene& scene, int key) {
                        }))
           next = (k + 1) % kPresetCount;
       }
-      v.tf = std::make_shared<TransferFunction>(*TransferFunction::preset(kPresets[next], v.grid->min_value, v.grid->max_value, "transfer"));
-      v.cell_opacity = macrocell_opacity(*v.cells, *v.tf);
+      v.set_transfer(std::make_shared<TransferFunction>(
+          *TransferFunction::preset(kPresets[next], v.grid->min_value, v.grid->max_value, "transfer")));
       std::snprintf(line, sizeof line, "transfer function %s (B: next)", kPresets[next]);
     }
   }

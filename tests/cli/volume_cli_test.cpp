@@ -55,7 +55,7 @@ TEST(VolumeCli, BadVolumesStopWithOneLine) {
   std::ofstream(dir / "bad.nrrd") << "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n";
   std::ofstream(dir / "s.json") << R"({"materials":{"m":{"class":"diffuse"}},"objects":[{"type":"volume","file":"bad.nrrd","isovalue":1,"material":"m"}]})";
   std::ofstream(dir / "r.json") << R"({"materials":{"m":{"class":"diffuse"}},"objects":[{"type":"volume","file":"none.raw","dims":[4,4,4],"format":"uint8","isovalue":1,"material":"m"}]})";
-  for (const std::string scene : {std::string("volume:cube:8"), (dir / "s.json").string(), (dir / "r.json").string()}) {
+  for (const std::string& scene : {std::string("volume:cube:8"), (dir / "s.json").string(), (dir / "r.json").string()}) {
     const auto out = dir / "out.exr";
     const CommandResult r = run_frameless("render " + scene + " --size 16x16 --out " + out.string());
     EXPECT_NE(r.exit_code, 0) << scene;

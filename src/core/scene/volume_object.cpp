@@ -27,7 +27,13 @@ void place_volume(VolumeObject& v, const Affine& transform) {
   }
   v.scale = std::max(max_component(glm::abs(v.lo)), max_component(glm::abs(v.hi)));
   if (!v.cells) v.cells = std::make_shared<Macrocells>(build_macrocells(*v.grid));
-  if (v.tf) v.cell_opacity = macrocell_opacity(*v.cells, *v.tf);
+  if (v.tf) v.set_transfer(v.tf);
+}
+
+void VolumeObject::set_transfer(std::shared_ptr<const TransferFunction> f) {
+  tf = std::move(f);
+  cell_opacity = macrocell_opacity(*cells, *tf);
+  step_opacity = tf->step_opacity(step);
 }
 
 }  // namespace frameless

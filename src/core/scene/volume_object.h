@@ -35,6 +35,7 @@ struct VolumeObject {
   bool inside_above = true;              // the inside holds values above the isovalue (densities)
   std::shared_ptr<const TransferFunction> tf;  // kDirect, kMip
   std::vector<float> cell_opacity;       // the transfer function's largest opacity per macrocell
+  std::vector<float> step_opacity;       // its opacities per step (TransferFunction::step_opacity)
   float step = 0.5f;                     // voxels between the volume shader's samples
   bool shade = true;                     // kDirect: light samples by their gradient
   Affine to_world;                       // grid index space -> world
@@ -43,7 +44,11 @@ struct VolumeObject {
   Vec3 lo{0.0f}, hi{0.0f};               // world bounds
   float scale = 1.0f;                    // largest world coordinate magnitude of the bounds
 
-  MarchSetup march() const { return MarchSetup{grid.get(), cells.get(), &cell_opacity, tf.get(), step}; }
+  MarchSetup march() const {
+    return MarchSetup{grid.get(), cells.get(), &cell_opacity, tf.get(), step, step_opacity.empty() ? nullptr : &step_opacity};
+  }
+  // Sets the transfer function and what is derived from it (needs the macrocells).
+  void set_transfer(std::shared_ptr<const TransferFunction> f);
 };
 
 // Places the grid: world = transform (object space: voxel (i, j, k) at (i, j, k) * spacing),

@@ -47,6 +47,12 @@ void TransferFunction::exact(float v, Vec3& color, float& opacity) const {
   opacity = points_.back().opacity;
 }
 
+std::vector<float> TransferFunction::step_opacity(float step) const {
+  std::vector<float> out(opacity_.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = 1.0f - std::pow(1.0f - std::min(opacity_[i], 0.999999f), step);
+  return out;
+}
+
 float TransferFunction::max_opacity(float a, float b) const {
   // Piecewise linear: the maximum is at an end or at a point inside. The table rounds values to
   // its nearest entry, so the range grows by one entry on each side.

@@ -27,13 +27,22 @@ class TransferFunction {
   static Result<TransferFunction> preset(const std::string& name, float lo, float hi, const std::string& what);
   static const char* preset_names();  // for messages and --help
 
-  // Colour and opacity at value v (clamped to the end points), from the table.
-  void lookup(float v, Vec3& color, float& opacity) const {
+  // The table entry of value v (clamped to the end points).
+  int index(float v) const {
     const float x = (v - lo_) * scale_;
-    const int i = x <= 0.0f ? 0 : x >= float(kTable - 1) ? kTable - 1 : int(x + 0.5f);
+    return x <= 0.0f ? 0 : x >= float(kTable - 1) ? kTable - 1 : int(x + 0.5f);
+  }
+  // Colour and opacity at value v, from the table.
+  void lookup(float v, Vec3& color, float& opacity) const {
+    const int i = index(v);
     color = color_[size_t(i)];
     opacity = opacity_[size_t(i)];
   }
+  const Vec3& color_at(int i) const { return color_[size_t(i)]; }
+  float opacity_at(int i) const { return opacity_[size_t(i)]; }
+  // Each entry's opacity over a stretch of `step` voxels, 1 - (1 - a)^step: what the volume
+  // shader would compute per sample, once per entry.
+  std::vector<float> step_opacity(float step) const;
   // The largest opacity over values [a, b] (macrocells holding only transparent values are skipped).
   float max_opacity(float a, float b) const;
   const std::vector<TransferPoint>& points() const { return points_; }

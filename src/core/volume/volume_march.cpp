@@ -22,6 +22,24 @@ inline float sample(const T* v, const VolumeGrid& g, const Vec3& p) {
   return lerp(lerp(c00, c10, w1), lerp(c01, c11, w1), w2);
 }
 
+// The interpolant's gradient at p, in float from the cell's eight voxels (the lighting's normal;
+// isosurfaces use trilinear_gradient's double precision).
+template <class T>
+inline Vec3 gradient(const T* v, const VolumeGrid& g, const Vec3& p) {
+  const int x = std::clamp(int(p.x), 0, g.nx - 2), y = std::clamp(int(p.y), 0, g.ny - 2),
+            z = std::clamp(int(p.z), 0, g.nz - 2);
+  const float u = p.x - float(x), w1 = p.y - float(y), w2 = p.z - float(z);
+  const size_t sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
+  const T* c = v + g.index(x, y, z);
+  const float c000 = float(c[0]), c100 = float(c[1]), c010 = float(c[sy]), c110 = float(c[sy + 1]);
+  const float c001 = float(c[sz]), c101 = float(c[sz + 1]), c011 = float(c[sz + sy]), c111 = float(c[sz + sy + 1]);
+  const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
+  const float gx = lerp(lerp(c100 - c000, c110 - c010, w1), lerp(c101 - c001, c111 - c011, w1), w2);
+  const float gy = lerp(lerp(c010 - c000, c110 - c100, u), lerp(c011 - c001, c111 - c101, u), w2);
+  const float gz = lerp(lerp(c001 - c000, c101 - c100, u), lerp(c011 - c010, c111 - c110, u), w1);
+  return Vec3(gx, gy, gz);
+}
+
 // Walks the samples of [t0, t1]: sample k stands for the stretch [t0 + k dt, t0 + (k + 1) dt] cut
 // to the part inside the grid and the segment, and is taken at the stretch's middle (clamped into
 // the grid), so a segment's samples cover exactly its length whatever its ends. Calls
@@ -54,7 +72,9 @@ uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, flo
       }
     }
     ++taken;
-    if (!visit(p, (hi - lo) / dt)) break;
+    // A whole stretch counts exactly once (the per-step opacity table applies to it).
+    const bool whole = lo == t0 + float(k) * dt && hi == t0 + float(k + 1) * dt;
+    if (!visit(p, whole ? 1.0f : (hi - lo) / dt)) break;
   }
   return taken;
 }
@@ -72,12 +92,14 @@ VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir
   VolumeSegment out;
   with_voxels(*s.grid, [&](const auto* v) {
     out.samples = walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
-      Vec3 c;
-      float a;
-      s.tf->lookup(sample(v, *s.grid, p), c, a);
+      const int i = s.tf->index(sample(v, *s.grid, p));
+      float a = s.tf->opacity_at(i);
       if (a <= 0.0f) return true;
-      a = 1.0f - std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);  // per voxel -> per stretch
-      if (lighting) c *= lighting->light(p, trilinear_gradient(*s.grid, p));
+      Vec3 c = s.tf->color_at(i);
+      // Per voxel -> per stretch: from the table for whole stretches (the same arithmetic).
+      a = s.step_opacity && cover == 1.0f ? (*s.step_opacity)[size_t(i)]
+                                          : 1.0f - std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);
+      if (lighting) c *= lighting->light(p, gradient(v, *s.grid, p));
       out.color += out.transmittance * a * c;
       out.transmittance *= 1.0f - a;
       return out.transmittance >= 1e-3f;

@@ -35,6 +35,7 @@ struct MarchSetup {
   const std::vector<float>* cell_opacity = nullptr;  // macrocell_opacity(); null: no skipping
   const TransferFunction* tf = nullptr;
   float step = 0.5f;  // voxels between samples (1 / sampling rate)
+  const std::vector<float>* step_opacity = nullptr;  // tf->step_opacity(step); null: per sample
 };
 
 // Front-to-back compositing over org + t dir, t in [t0, t1]: each sample's opacity a becomes
