@@ -112,13 +112,8 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
     Hit hit;
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
-    if (scene.see_through_volumes) {  // the volume shader's light on the way, and its shade
-      const ParkerVolumeLighting lighting(scene, frame);
-      const VolumeSegment seg = volumes_along(scene, ray, found ? hit.t : kInfinity, &lighting);
-      radiance += beta * seg.color;
-      beta *= seg.transmittance;
-      if (!(max_component(beta) > 0.0f)) break;
-    }
+    // The volume shader's light on the way, and its shade on what follows.
+    if (scene.see_through_volumes && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
     if (!found) {  // seen from the camera or through mirrors and glass
       radiance += beta * beer(extinction, kInfinity) *
                   escaped_radiance(scene.environment.get(), scene.settings.background, ray.dir);

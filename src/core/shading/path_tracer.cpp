@@ -42,13 +42,8 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     Hit hit;
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
-    if (scene.see_through_volumes) {  // the volume shader's light on the way, and its shade
-      const ParkerVolumeLighting lighting(scene, frame);
-      const VolumeSegment seg = volumes_along(scene, ray, found ? hit.t : kInfinity, &lighting);
-      radiance += beta * seg.color;
-      beta *= seg.transmittance;
-      if (!(max_component(beta) > 0.0f)) break;
-    }
+    // The volume shader's light on the way, and its shade on what follows.
+    if (scene.see_through_volumes && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
     // Parker's lights with an extent, reached by a BSDF-sampled ray before any surface.
     if (smooth_bounce && st.extended_lights && st.strategy != LightStrategy::kLightOnly) {
       for (const Light& light : frame_lights(scene, frame)) {

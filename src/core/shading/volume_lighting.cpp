@@ -25,6 +25,15 @@ Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& r
   return seg.color + seg.transmittance * behind;
 }
 
+bool through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, Vec3& radiance,
+                     Vec3& beta) {
+  const ParkerVolumeLighting lighting(scene, frame);
+  const VolumeSegment seg = volumes_along(scene, ray, t_end, &lighting);
+  radiance += beta * seg.color;
+  beta *= seg.transmittance;
+  return max_component(beta) > 0.0f;
+}
+
 float volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces) {
   if (scene.volumes.empty()) return 1.0f;
   if (isosurfaces && volumes_occlude(scene, ray)) return 0.0f;

@@ -23,6 +23,11 @@ class ParkerVolumeLighting final : public VolumeLighting {
 // volumes (the colour as it is when the scene has none).
 Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, const Vec3& behind);
 
+// A path's vertex-to-vertex stretch through them: adds their light times beta to radiance and
+// dims beta by their transmittance; false when nothing gets through any more.
+bool through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, Vec3& radiance,
+                     Vec3& beta);
+
 // A shadow ray's share of light through the volumes: 0 when an isosurface blocks it (with
 // `isosurfaces`; the hard-shadow queries already test them), else the volume shader's
 // transmittance.
