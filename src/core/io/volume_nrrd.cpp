@@ -33,10 +33,8 @@ Error fail_at(const std::string& path, int line, const std::string& field, const
 
 // Input quoted in a message, cut short so that a line of garbage stays readable.
 std::string quote(std::string_view s) {
-  std::string out = "'";
-  out.append(s.substr(0, 60));
-  out += s.size() > 60 ? "...'" : "'";
-  return out;
+  std::string out = "'";  // appended, not "'" + string: GCC 12 warns falsely about that form
+  return out.append(s.substr(0, 60)).append(s.size() > 60 ? "...'" : "'");
 }
 
 std::string_view trim(std::string_view s) {
@@ -494,9 +492,8 @@ Result<std::shared_ptr<const VolumeGrid>> read_nrrd(const std::string& path) {
   }
   auto header = parse_header(header_bytes, path);
   if (!header) return header.error();
-  std::string base_dir = std::filesystem::path(path).parent_path().string();
-  if (base_dir.empty()) base_dir = ".";
-  return load_data(*header, file, path, base_dir);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  return load_data(*header, file, path, dir.empty() ? "." : dir);
 }
 
 }  // namespace frameless
