@@ -190,7 +190,8 @@ TEST(Generators, NamesSizesAndValues) {
   EXPECT_EQ((*sl)->at(0, 0, 0), 0.0f);                       // outside the head
   EXPECT_NEAR((*sl)->at(32, 24, 40), 0.2f * 4000.0f, 5.0f);  // brain: 1 - 0.8 (smoothed: integer rounding)
   for (const char* bad : {"volume:torus:8", "volume:sphere:1", "volume:sphere:x", "volume:sphere:8x8x8",
-                          "volume:shepp-logan:8x8", "volume:sphere:99999", "volume:sphere:8x"}) {
+                          "volume:shepp-logan:8x8", "volume:sphere:99999", "volume:sphere:8x",
+                          "volume:sphere:1024" /* 4 GiB */}) {
     auto r = make_builtin_volume(bad);
     ASSERT_FALSE(r) << bad;
     EXPECT_EQ(r.error().message.find('\n'), std::string::npos);

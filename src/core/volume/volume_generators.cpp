@@ -25,11 +25,18 @@ void parallel_slices(int n, F f) {
 // Grid coordinate i of n mapped onto [-1, 1].
 inline float unit(int i, int n) { return -1.0f + 2.0f * float(i) / float(n - 1); }
 
+// Voxels written in place into the bytes the grid will own: no second copy of a big volume.
 template <class T>
-std::shared_ptr<const VolumeGrid> finish(int nx, int ny, int nz, VoxelType type, Vec3 spacing, std::vector<T> v) {
-  std::vector<uint8_t> bytes(v.size() * sizeof(T));
-  std::memcpy(bytes.data(), v.data(), bytes.size());
-  auto g = make_volume_grid(nx, ny, nz, type, spacing, owned_storage(std::move(bytes)), "built-in volume");
+struct VoxelBuffer {
+  std::vector<uint8_t> bytes;
+  explicit VoxelBuffer(size_t n) : bytes(n * sizeof(T)) {}
+  T* data() { return reinterpret_cast<T*>(bytes.data()); }  // new[]'s alignment suits any T
+  T& operator[](size_t i) { return data()[i]; }
+};
+
+template <class T>
+std::shared_ptr<const VolumeGrid> finish(int nx, int ny, int nz, VoxelType type, Vec3 spacing, VoxelBuffer<T>& v) {
+  auto g = make_volume_grid(nx, ny, nz, type, spacing, owned_storage(std::move(v.bytes)), "built-in volume");
   return g ? *g : nullptr;  // generators only make valid grids
 }
 
@@ -58,11 +65,11 @@ constexpr Ellipsoid kHead[10] = {
 // The phantom's ellipsoids have sharp edges, whose trilinear isosurfaces are staircases a voxel
 // high: a [1 2 1] / 4 filter along each axis (about a voxel of blur, as a CT scanner's point
 // spread gives) makes them smooth. In place, a line or a slice pair at a time.
-void smooth_121(std::vector<uint16_t>& v, int nx, int ny, int nz) {
+void smooth_121(uint16_t* v, int nx, int ny, int nz) {
   const size_t sy = size_t(nx), sz = size_t(nx) * size_t(ny);
   const auto pass = [&](size_t stride, int n, size_t lines, const auto& line_start) {
     parallel_slices(int(lines), [&](int line) {
-      uint16_t* p = v.data() + line_start(size_t(line));
+      uint16_t* p = v + line_start(size_t(line));
       int prev = p[0];
       for (int i = 0; i < n; ++i) {
         const int c = p[size_t(i) * stride], next = i + 1 < n ? p[size_t(i + 1) * stride] : c;
@@ -86,17 +93,17 @@ float marschner_lobb(float x, float y, float z) {
 }
 
 std::shared_ptr<const VolumeGrid> make_marschner_lobb(int n) {
-  std::vector<float> v(size_t(n) * n * n);
+  VoxelBuffer<float> v(size_t(n) * n * n);
   parallel_slices(n, [&](int z) {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         v[(size_t(z) * n + y) * n + x] = marschner_lobb(unit(x, n), unit(y, n), unit(z, n));
   });
-  return finish(n, n, n, VoxelType::kFloat32, Vec3(2.0f / float(n - 1)), std::move(v));
+  return finish(n, n, n, VoxelType::kFloat32, Vec3(2.0f / float(n - 1)), v);
 }
 
 std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz) {
-  std::vector<uint16_t> v(size_t(nx) * ny * nz);
+  VoxelBuffer<uint16_t> v(size_t(nx) * ny * nz);
   parallel_slices(nz, [&](int z) {
     std::vector<float> row(static_cast<size_t>(nx));
     const float pz = unit(z, nz);
@@ -124,21 +131,24 @@ std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz) {
       for (int i = 0; i < nx; ++i) out[i] = uint16_t(std::clamp(std::lround(row[size_t(i)] * 4000.0f), 0L, 65535L));
     }
   });
-  for (int pass = 0; pass < 2; ++pass) smooth_121(v, nx, ny, nz);  // a Gaussian of about one voxel
+  for (int pass = 0; pass < 2; ++pass) smooth_121(v.data(), nx, ny, nz);  // a Gaussian of about one voxel
   return finish(nx, ny, nz, VoxelType::kUint16, Vec3(2.0f / float(nx - 1), 2.0f / float(ny - 1), 2.0f / float(nz - 1)),
-                std::move(v));
+                v);
 }
 
 std::shared_ptr<const VolumeGrid> make_sphere_distance(int n) {
-  std::vector<float> v(size_t(n) * n * n);
+  VoxelBuffer<float> v(size_t(n) * n * n);
   const float c = 0.5f * float(n - 1);
   parallel_slices(n, [&](int z) {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         v[(size_t(z) * n + y) * n + x] = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
   });
-  return finish(n, n, n, VoxelType::kFloat32, Vec3(1.0f), std::move(v));
+  return finish(n, n, n, VoxelType::kFloat32, Vec3(1.0f), v);
 }
+
+// Built-in volumes are for tests and demos: at most 1 GiB (the Visible-Female-sized phantom is 909 MB).
+constexpr uint64_t kMaxGeneratedBytes = uint64_t(1) << 30;
 
 bool is_builtin_volume_name(const std::string& name) { return name.rfind("volume:", 0) == 0; }
 
@@ -164,6 +174,8 @@ Result<std::shared_ptr<const VolumeGrid>> make_builtin_volume(const std::string&
   if (count == 1) d[1] = d[2] = d[0];
   for (int k = 0; k < 3; ++k)
     if (d[k] < 2 || d[k] > 4096) return bad("size '" + size + "' outside 2..4096");
+  const uint64_t bytes = uint64_t(d[0]) * uint64_t(d[1]) * uint64_t(d[2]) * (kind == "shepp-logan" ? 2 : 4);
+  if (bytes > kMaxGeneratedBytes) return bad("size '" + size + "' makes more than 1 GiB of voxels");
   if (kind == "shepp-logan") return make_shepp_logan(d[0], d[1], d[2]);
   if (count == 3) return bad("only shepp-logan takes three sides");
   if (kind == "marschner-lobb") return make_marschner_lobb(d[0]);

@@ -27,7 +27,7 @@ std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz);
 std::shared_ptr<const VolumeGrid> make_sphere_distance(int n);
 
 // "volume:KIND:N" or "volume:shepp-logan:NXxNYxNZ" -> its grid; a one-line error for an unknown
-// kind or a size outside 2..4096 (each side).
+// kind, a side outside 2..4096 or more than 1 GiB of voxels (they are for tests and demos).
 Result<std::shared_ptr<const VolumeGrid>> make_builtin_volume(const std::string& name);
 bool is_builtin_volume_name(const std::string& name);  // starts with "volume:"
 
