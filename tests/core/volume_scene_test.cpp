@@ -150,6 +150,28 @@ TEST(VolumeScene, VolumeShaderCastsBeersLawShadowsInWhittedAndPathTracing) {
   }
 }
 
+TEST(VolumeScene, IsosurfacesCastPenumbraeUnderSoftShadows) {
+  // The sphere (radius 10) above a floor, a big spherical light above: Parker's soft shadows.
+  const std::string floor = R"(,{"type":"plane","point":[0,-15,0],"normal":[0,1,0],"size":200,"material":"g"})";
+  const std::string light = R"("settings":{"shadows":"soft"},"lights":[{"type":"spherical","position":[0,40,0],"radius":8}],)";
+  auto with = parse(std::string(kSphere) + floor, light), without = parse(floor.substr(1), light);
+  ASSERT_TRUE(with && without) << (with ? without.error().message : with.error().message);
+  int umbra = 0, penumbra = 0, lit = 0;
+  for (float x = 0.0f; x <= 30.0f; x += 0.5f) {
+    const Ray down = ray_from(Vec3(x, 0, 30), Vec3(0, -15, -30));  // hits the floor at (x, -15, 0)
+    const float a = trace_radiance(**with, down, 0, Vec3(1.0f), nullptr).x;
+    const float b = trace_radiance(**without, down, 0, Vec3(1.0f), nullptr).x;
+    ASSERT_GT(b, 0.0f);
+    const float v = a / b;  // the light's visible share
+    umbra += v < 0.02f;
+    penumbra += v > 0.05f && v < 0.95f;
+    lit += v > 0.98f;
+  }
+  EXPECT_GT(umbra, 0);
+  EXPECT_GT(penumbra, 1);  // more than one step between shadow and light: a penumbra
+  EXPECT_GT(lit, 0);
+}
+
 TEST(VolumeScene, BadVolumeFieldsGiveOneLineErrors) {
   const std::string raw = constant_raw();
   struct Case {

@@ -136,8 +136,12 @@ template <class F>
     shadow.tmax = tmax;
     if (transparent || (extended_mode && light.has_extent())) {
       Vec3 s = extended_visibility(c, light, origin, l, tmax, tan_half, half_angle, sp.prim);
-      // The cone query sees no volume: isosurfaces block, the volume shader's volumes dim.
-      if (!scene.volumes.empty() && max_component(s) > 0.0f) s *= volume_shadow(scene, shadow, true);
+      // Area and transparent shadow rays meet isosurfaces; Parker's cone query does not: there
+      // they are sampled across the light's cone. The volume shader's volumes dim either way.
+      if (!scene.volumes.empty() && max_component(s) > 0.0f) {
+        const bool cone = light.has_extent() && scene.settings.shadows == ShadowMode::kSoft && tan_half > 0.0f;
+        s *= cone ? volume_cone_shadow(scene, shadow, tan_half) : volume_shadow(scene, shadow, false);
+      }
       if (max_component(s) > 0.0f) f(light.color * s, l, nl);
       continue;
     }

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "core/geometry/shading_frame.h"
 #include "core/shading/shading.h"
 
 namespace frameless {
@@ -38,6 +39,19 @@ float volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces) {
   if (scene.volumes.empty()) return 1.0f;
   if (isosurfaces && volumes_occlude(scene, ray)) return 0.0f;
   return scene.see_through_volumes ? volumes_transmittance(scene, ray) : 1.0f;
+}
+
+float volume_cone_shadow(const Scene& scene, const Ray& ray, float tan_half) {
+  const ShadingFrame f = make_shading_frame(ray.dir);
+  float sum = volume_shadow(scene, ray, true);
+  const float r = 0.5f * tan_half;
+  const Vec2 offsets[4] = {Vec2(r, 0.0f), Vec2(-r, 0.0f), Vec2(0.0f, r), Vec2(0.0f, -r)};
+  for (const Vec2& o : offsets) {
+    Ray s = ray;
+    s.dir = glm::normalize(f.to_world(Vec3(o.x, o.y, 1.0f)));
+    sum += volume_shadow(scene, s, true);
+  }
+  return 0.2f * sum;
 }
 
 }  // namespace frameless
