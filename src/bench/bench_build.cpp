@@ -31,24 +31,6 @@
 namespace frameless::bench {
 namespace {
 
-using ParallelFor = std::function<void(size_t, const std::function<void(size_t)>&)>;
-
-// The caller's executor as bench rays makes it: up to `threads` threads per call (the caller and
-// threads - 1 new std::threads), taking indices from a shared counter.
-ParallelFor thread_parallel_for(int threads) {
-  return [threads](size_t n, const std::function<void(size_t)>& body) {
-    std::atomic<size_t> next{0};
-    auto worker = [&] {
-      for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
-    };
-    std::vector<std::thread> pool;
-    const size_t extra = std::min<size_t>(size_t(threads), n) - 1;
-    for (size_t t = 0; t < extra; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-  };
-}
-
 // Puts each primitive kind in a fixed pseudo-random order (materials and per-triangle data
 // travel along): an input without spatial order, the hardest case for branch prediction.
 void shuffle_primitives(Geometry& g) {

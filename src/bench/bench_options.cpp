@@ -3,8 +3,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 #include <thread>
 
 #include "core/scene/scene_finalize.h"
@@ -79,6 +82,20 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
   }
   width = w, height = h;
   return true;
+}
+
+ParallelFor thread_parallel_for(int threads) {
+  return [threads](size_t n, const std::function<void(size_t)>& body) {
+    std::atomic<size_t> next{0};
+    auto worker = [&] {
+      for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+    };
+    std::vector<std::thread> pool;
+    const size_t extra = std::min<size_t>(size_t(std::max(threads, 1)), n) - (n > 0 ? 1 : 0);
+    for (size_t t = 0; t < extra; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+  };
 }
 
 int hardware_threads() {

@@ -42,6 +42,9 @@ inline constexpr float kBenchReprojectBudget = 0.15f;
 
 // Number of hardware threads (at least 1).
 int hardware_threads();
+// The executor the core's parallel work runs through (core/base/parallel_for.h): up to `threads`
+// threads per call (the caller and threads - 1 new ones), taking indices from a shared counter.
+ParallelFor thread_parallel_for(int threads);
 // Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
 bool valid_threads(int threads, std::string& error);
 

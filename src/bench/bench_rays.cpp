@@ -91,15 +91,7 @@ int run_rays(const RaysOptions& a) {
   // Serial build happened at load; rebuild with the parallel executor for its time too.
   const AccelStats serial_stats = scene->accel.stats();
   AccelConfig parallel_config;
-  parallel_config.parallel_for = [threads](size_t n, const std::function<void(size_t)>& body) {
-    std::vector<std::thread> pool;
-    std::atomic<size_t> next{0};
-    for (int t = 0; t < std::min<int>(threads, int(n)); ++t)
-      pool.emplace_back([&] {
-        for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
-      });
-    for (std::thread& t : pool) t.join();
-  };
+  parallel_config.parallel_for = thread_parallel_for(threads);
   scene->accel.build(scene->geometry, parallel_config);
   if (a.opaque) scene->accel.set_alpha_test({});  // as Embree sees the scene: no cut-outs
   const AccelStats stats = scene->accel.stats();

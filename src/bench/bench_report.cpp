@@ -5,6 +5,7 @@
 #include "frameless/tile_render.h"
 
 #include <sys/utsname.h>
+#include <sys/wait.h>
 
 #include <time.h>
 
@@ -286,6 +287,17 @@ std::vector<float> render_one_thread(const Scene& s, int w, int h, int spp, doub
   RenderedImage img = render_tiles(s, make_camera_basis(s.camera, w, h), o);
   cpu_seconds = thread_cpu_seconds() - t0;
   return std::move(img.rgb);
+}
+
+int run_command(const std::string& command, std::string& output) {
+  output.clear();
+  std::FILE* p = popen((command + " 2>&1").c_str(), "r");
+  if (!p) return -1;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace frameless::bench

@@ -59,6 +59,9 @@ double rss_bytes();
 double peak_rss_bytes();
 // Process CPU seconds (user + system, all threads).
 double process_cpu_seconds();
+// Runs a shell command (a bench-only peer), its stdout and stderr into `output`; its exit status,
+// or -1 when it could not run or ended by a signal.
+int run_command(const std::string& command, std::string& output);
 // Sleeps the calling thread for `seconds`.
 void sleep_s(double seconds);
 // One image of `s` rendered on the calling thread alone; cpu_seconds receives that thread's CPU

@@ -82,7 +82,7 @@ int run_volume(const VolumeOptions& a) {
     const std::string raw = dir + "/phantom_" + dims + ".raw";
     {
       auto t0 = Clock::now();
-      auto grid = make_builtin_volume("volume:shepp-logan:" + dims);
+      auto grid = make_builtin_volume("volume:shepp-logan:" + dims, thread_parallel_for(threads));
       j["generate_seconds"] = since(t0);
       std::ofstream f(raw, std::ios::binary);
       f.write(reinterpret_cast<const char*>((*grid)->storage->data()), std::streamsize((*grid)->storage->size()));

@@ -3,6 +3,7 @@
 
 #include <chrono>
 
+#include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "core/io/scene_json.h"
 #include "core/scene/scene_build.h"
@@ -21,7 +22,7 @@ nlohmann::json compare_with_mesh(const Scene& iso_scene, const std::string& mesh
   nlohmann::json j;
   const double rss0 = rss_bytes();
   auto t0 = Clock::now();
-  IsoMesh iso = marching_tetrahedra(*v.grid, *v.cells, v.isovalues[0], v.inside_above);
+  IsoMesh iso = marching_tetrahedra(*v.grid, *v.cells, v.isovalues[0], v.inside_above, thread_parallel_for(threads));
   j["mesh_seconds"] = std::chrono::duration<double>(Clock::now() - t0).count();
   j["triangles"] = iso.positions.size() / 3;
   auto scene = parse_scene_json(mesh_only_json, dir + "/mesh.json", dir);

@@ -4,11 +4,13 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
+#include "bench/bench_report.h"
 #include "core/io/image_io.h"
 
 namespace frameless::bench {
@@ -135,25 +137,26 @@ Result<CyclesRender> render_with_cycles(const std::string& blender, const Scene&
     if (std::fclose(f) != 0 || !ok) return Error{script + ": cannot write the Blender script"};
   }
   std::remove(exr.c_str());
-  const std::string cmd = "'" + blender + "' -b --factory-startup -noaudio --python-exit-code 1 -P '" +
-                          script + "' 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return Error{"Cycles peer: cannot run " + blender};
+  const std::string cmd = "'" + blender + "' -b --factory-startup -noaudio --python-exit-code 1 -P '" + script + "'";
+  std::string output;
+  const int status = run_command(cmd, output);
+  if (status < 0 && output.empty()) return Error{"Cycles peer: cannot run " + blender};
   CyclesRender r;
-  char line[4096];
   std::string tail;
   bool timed = false;
-  while (std::fgets(line, sizeof line, p)) {
-    tail = line;
+  for (size_t at = 0; at < output.size();) {
+    const size_t end = std::min(output.find('\n', at), output.size());
+    const std::string line = output.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty()) tail = line;
     double t = 0;
     char version[64] = {0};
-    if (std::sscanf(line, "FRAMELESS_CYCLES %lf %63s", &t, version) >= 1) {
+    if (std::sscanf(line.c_str(), "FRAMELESS_CYCLES %lf %63s", &t, version) >= 1) {
       r.seconds = t;
       r.version = version;
       timed = true;
     }
   }
-  const int status = pclose(p);
   if (status != 0 || !timed) {
     while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
     return Error{"Cycles peer: blender failed (" + tail + ")"};

@@ -7,24 +7,13 @@
 #include <fstream>
 #include <thread>
 
+#include "bench/bench_report.h"
 #include "core/io/image_io.h"
 #include "core/io/scene_json.h"
 #include "core/scene/scene_volumes.h"
 
 namespace frameless::bench {
 namespace {
-
-// Runs a shell command, returning its output (stdout and stderr) and exit status.
-int run(const std::string& cmd, std::string& out) {
-  out.clear();
-  std::FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return -1;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 // The field as numpy makes it: distance from the centre minus the radius, x fastest on disk (ours)
 // and [x][y][z] for OpenVDB (its index order); a narrow-band level set of 3 voxels' background.
@@ -46,15 +35,15 @@ vdb.write(out, grids=[g])
 nlohmann::json compare_with_vdb_render(int n, int w, int h, int threads, const std::string& dir) {
   nlohmann::json j;
   std::string out;
-  if (run("command -v vdb_render", out) != 0) return {{"skipped", "vdb_render not found (apt-get install libopenvdb-tools)"}};
-  if (run("/usr/bin/python3 -c 'import numpy, pyopenvdb'", out) != 0)
+  if (run_command("command -v vdb_render", out) != 0) return {{"skipped", "vdb_render not found (apt-get install libopenvdb-tools)"}};
+  if (run_command("/usr/bin/python3 -c 'import numpy, pyopenvdb'", out) != 0)
     return {{"skipped", "Debian's python3-openvdb and python3-numpy are needed to write the level set"}};
   const std::string script = dir + "/sdf_to_vdb.py", raw = dir + "/sdf.raw", vdb = dir + "/sdf.vdb", exr = dir + "/vdb_position.exr";
   std::ofstream(script) << kScript;
   const double radius = 0.3 * (n - 1), c = 0.5 * (n - 1);
   char cmd[1024];
   std::snprintf(cmd, sizeof cmd, "/usr/bin/python3 %s %d %g %s %s", script.c_str(), n, radius, raw.c_str(), vdb.c_str());
-  if (run(cmd, out) != 0) return {{"skipped", "writing the level set failed: " + out.substr(0, 200)}};
+  if (run_command(cmd, out) != 0) return {{"skipped", "writing the level set failed: " + out.substr(0, 200)}};
   // The same camera: on +z, four radii from the centre, looking at it, 40 degrees (square image: vdb_render's
   // horizontal field of view is ours, vertical).
   const double eye_z = c + 4.0 * radius;
@@ -62,7 +51,7 @@ nlohmann::json compare_with_vdb_render(int n, int w, int h, int threads, const s
                 "vdb_render %s %s -res %dx%d -translate %g,%g,%g -lookat %g,%g,%g -up 0,1,0 -fov 40 -shader position "
                 "-compression none -cpus %d -v",
                 vdb.c_str(), exr.c_str(), w, h, c, c, eye_z, c, c, c, threads);
-  if (run(cmd, out) != 0) return {{"skipped", "vdb_render failed: " + out.substr(0, 200)}};
+  if (run_command(cmd, out) != 0) return {{"skipped", "vdb_render failed: " + out.substr(0, 200)}};
   // "ray-tracing sdf...\n...completed in X sec": the render alone, not reading or writing.
   const size_t at = out.find("ray-tracing");
   const size_t done = at == std::string::npos ? at : out.find("completed in", at);

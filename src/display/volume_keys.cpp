@@ -3,13 +3,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <memory>
 
 namespace frameless {
 namespace {
-
-constexpr const char* kPresets[] = {"ct-bone", "ct-skin", "grayscale", "hot", "cool-warm"};
-constexpr int kPresetCount = 5;
 
 bool has_mode(const Scene& s, bool iso) {
   for (const VolumeObject& v : s.volumes)
@@ -35,20 +33,15 @@ std::string edit_volumes(Scene& scene, int key) {
         iso = std::clamp(iso + (key == 'X' ? step : -step), v.grid->min_value, v.grid->max_value);
       std::snprintf(line, sizeof line, "isovalue %g (Z lower, X raise)", double(v.isovalues[0]));
     } else if (v.mode != VolumeMode::kIsosurface && key == 'B') {
-      // The preset after the one in use (the first when the function is the scene's own).
+      // The preset after the one in use (the first when the function is the scene's own points).
+      const auto& presets = TransferFunction::kPresets;
+      const int count = int(std::size(presets));
       int next = 0;
-      for (int k = 0; k < kPresetCount; ++k) {
-        auto tf = TransferFunction::preset(kPresets[k], v.grid->min_value, v.grid->max_value, "transfer");
-        if (tf && v.tf && tf->points().size() == v.tf->points().size() &&
-            std::equal(tf->points().begin(), tf->points().end(), v.tf->points().begin(),
-                       [](const TransferPoint& a, const TransferPoint& b) {
-                         return a.value == b.value && a.color == b.color && a.opacity == b.opacity;
-                       }))
-          next = (k + 1) % kPresetCount;
-      }
+      for (int k = 0; k < count; ++k)
+        if (v.tf->preset() == presets[k]) next = (k + 1) % count;
       v.set_transfer(std::make_shared<TransferFunction>(
-          *TransferFunction::preset(kPresets[next], v.grid->min_value, v.grid->max_value, "transfer")));
-      std::snprintf(line, sizeof line, "transfer function %s (B: next)", kPresets[next]);
+          *TransferFunction::preset(presets[next], v.grid->min_value, v.grid->max_value, "transfer")));
+      std::snprintf(line, sizeof line, "transfer function %s (B: next)", presets[next]);
     }
   }
   return line;

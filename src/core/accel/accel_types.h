@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/parallel_for.h"
 #include "core/base/types.h"
 #include "core/geometry/ray.h"
 
@@ -41,7 +42,7 @@ struct AccelConfig {
   int sah_bins = 16;      // bins per axis for the binned SAH sweep
   // Optional executor for a parallel build: runs body(i) for every i in [0, n), possibly
   // concurrently, and returns when all are done (the caller owns the threads). Empty: serial.
-  std::function<void(size_t n, const std::function<void(size_t)>& body)> parallel_for;
+  ParallelFor parallel_for;
 };
 
 struct AccelStats {

@@ -20,12 +20,12 @@
 #include <vector>
 
 #include "core/accel/bvh_build_f4.h"
+#include "core/base/parallel_for.h"
 #include "core/accel/bvh_node.h"
 
 namespace frameless::bvh_split {
 
 using namespace bvh_f4;
-using ParallelFor = std::function<void(size_t, const std::function<void(size_t)>&)>;
 
 // Past this node level splits become object medians, which bounds the tree depth (and so the
 // traversal stack) even for adversarial primitive distributions.

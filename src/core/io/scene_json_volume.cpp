@@ -10,6 +10,13 @@
 namespace frameless::scene_json {
 namespace {
 
+// A number or [sx, sy, sz], each positive.
+Vec3 parse_spacing(const json& sp, const std::string& field) {
+  const Vec3 s = sp.is_number() ? Vec3(get_float(sp, field, 1e-9, 1e9, "in (0, 1e9]")) : get_vec3(sp, field);
+  if (!(s.x > 0.0f && s.y > 0.0f && s.z > 0.0f)) fail(field, "must be positive");
+  return s;
+}
+
 std::shared_ptr<const VolumeGrid> load_grid(const json& o, const std::string& f, const std::string& base_dir,
                                             bool& raw_fields) {
   const std::string file = get_string(need(o, f, "file"), f + ".file");
@@ -45,12 +52,7 @@ std::shared_ptr<const VolumeGrid> load_grid(const json& o, const std::string& f,
     if (e != "little" && e != "big") fail(f + ".endian", "expected little or big, got '" + e + "'");
     spec.big_endian = e == "big";
   }
-  if (o.contains("spacing")) {
-    const json& sp = o["spacing"];
-    if (sp.is_number()) spec.spacing = Vec3(get_float(sp, f + ".spacing", 1e-9, 1e9, "in (0, 1e9]"));
-    else spec.spacing = get_vec3(sp, f + ".spacing");
-    if (!(spec.spacing.x > 0.0f && spec.spacing.y > 0.0f && spec.spacing.z > 0.0f)) fail(f + ".spacing", "must be positive");
-  }
+  if (o.contains("spacing")) spec.spacing = parse_spacing(o["spacing"], f + ".spacing");
   if (o.contains("offset")) spec.offset = uint64_t(get_int(o["offset"], f + ".offset", 0, int64_t(1) << 40));
   auto g = read_raw_volume(full, spec);
   if (!g) fail(f + ".file", g.error().message);
@@ -99,11 +101,8 @@ void parse_volume(const json& o, const std::string& f, Scene& s, const std::stri
       if (o.contains(key)) fail(f + "." + key, "only for raw files (the file says it itself)");
   if (!raw && o.contains("spacing")) {
     // Spacing overrides what a generator or NRRD header says.
-    const json& sp = o["spacing"];
-    Vec3 spacing = sp.is_number() ? Vec3(get_float(sp, f + ".spacing", 1e-9, 1e9, "in (0, 1e9]")) : get_vec3(sp, f + ".spacing");
-    if (!(spacing.x > 0.0f && spacing.y > 0.0f && spacing.z > 0.0f)) fail(f + ".spacing", "must be positive");
     auto g = std::make_shared<VolumeGrid>(*v.grid);
-    g->spacing = spacing;
+    g->spacing = parse_spacing(o["spacing"], f + ".spacing");
     v.grid = g;
   }
   const std::string mode = o.contains("mode") ? get_string(o["mode"], f + ".mode") : o.contains("isovalue") ? "isosurface" : "direct";

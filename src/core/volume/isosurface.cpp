@@ -4,28 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/volume/trilinear.h"
+
 namespace frameless {
 namespace {
-
-struct Corners {
-  double c[8];  // c[x + 2y + 4z]
-};
-
-template <class T>
-Corners corners(const T* v, const VolumeGrid& g, int x, int y, int z) {
-  Corners k;
-  const size_t sx = 1, sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
-  const T* p = v + g.index(x, y, z);
-  k.c[0] = double(p[0]);
-  k.c[1] = double(p[sx]);
-  k.c[2] = double(p[sy]);
-  k.c[3] = double(p[sy + sx]);
-  k.c[4] = double(p[sz]);
-  k.c[5] = double(p[sz + sx]);
-  k.c[6] = double(p[sz + sy]);
-  k.c[7] = double(p[sz + sy + sx]);
-  return k;
-}
 
 // f(s) = A s^3 + B s^2 + C s + D: the interpolant minus iso along u = a + s b (local coordinates).
 struct Cubic {
@@ -33,7 +15,7 @@ struct Cubic {
   double operator()(double s) const { return ((A * s + B) * s + C) * s + D; }
 };
 
-Cubic cubic_along(const Corners& k, const double a[3], const double b[3], double iso) {
+Cubic cubic_along(const double (&k)[8], const double a[3], const double b[3], double iso) {
   Cubic f;
   for (int corner = 0; corner < 8; ++corner) {
     // Each axis contributes (1 - u) or u: p + q s.
@@ -43,7 +25,7 @@ Cubic cubic_along(const Corners& k, const double a[3], const double b[3], double
       p[ax] = hi ? a[ax] : 1.0 - a[ax];
       q[ax] = hi ? b[ax] : -b[ax];
     }
-    const double w = k.c[corner];
+    const double w = k[corner];
     f.D += w * p[0] * p[1] * p[2];
     f.C += w * (q[0] * p[1] * p[2] + p[0] * q[1] * p[2] + p[0] * p[1] * q[2]);
     f.B += w * (q[0] * q[1] * p[2] + q[0] * p[1] * q[2] + p[0] * q[1] * q[2]);
@@ -131,8 +113,9 @@ int walk_cells(const T* v, const VolumeGrid& g, double iso, const double o[3], c
   while (true) {
     const int ax = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     const double t_out = std::min(next[ax], t_end);
-    const Corners k = corners(v, g, c[0], c[1], c[2]);
-    const double kmin = *std::min_element(k.c, k.c + 8), kmax = *std::max_element(k.c, k.c + 8);
+    double k[8];
+    cell_corners(v, g, c[0], c[1], c[2], k);
+    const double kmin = *std::min_element(k, k + 8), kmax = *std::max_element(k, k + 8);
     if (kmin <= iso && iso <= kmax && t_out >= t) {
       double a[3], b[3];
       for (int i = 0; i < 3; ++i) {
@@ -223,35 +206,11 @@ bool intersect_isosurface(const VolumeGrid& g, const Macrocells* m, float iso, c
 }
 
 float trilinear_value(const VolumeGrid& g, const Vec3& p) {
-  const int x = std::clamp(int(std::floor(p.x)), 0, g.nx - 2), y = std::clamp(int(std::floor(p.y)), 0, g.ny - 2),
-            z = std::clamp(int(std::floor(p.z)), 0, g.nz - 2);
-  const double u = p.x - x, w1 = p.y - y, w2 = p.z - z;
-  return with_voxels(g, [&](const auto* v) {
-    const Corners k = corners(v, g, x, y, z);
-    const double c00 = k.c[0] + u * (k.c[1] - k.c[0]), c10 = k.c[2] + u * (k.c[3] - k.c[2]);
-    const double c01 = k.c[4] + u * (k.c[5] - k.c[4]), c11 = k.c[6] + u * (k.c[7] - k.c[6]);
-    const double c0 = c00 + w1 * (c10 - c00), c1 = c01 + w1 * (c11 - c01);
-    return float(c0 + w2 * (c1 - c0));
-  });
+  return with_voxels(g, [&](const auto* v) { return float(cell_value(cell_at<double>(v, g, p))); });
 }
 
 Vec3 trilinear_gradient(const VolumeGrid& g, const Vec3& p) {
-  const int x = std::clamp(int(std::floor(p.x)), 0, g.nx - 2), y = std::clamp(int(std::floor(p.y)), 0, g.ny - 2),
-            z = std::clamp(int(std::floor(p.z)), 0, g.nz - 2);
-  const double u = p.x - x, v = p.y - y, w = p.z - z;
-  return with_voxels(g, [&](const auto* vox) {
-    const Corners k = corners(vox, g, x, y, z);
-    const auto c = [&](int i, int j, int l) { return k.c[i + 2 * j + 4 * l]; };
-    const auto lerp = [](double a, double b, double s) { return a + s * (b - a); };
-    // d/du: the x-differences, bilinear in (v, w); likewise for the others.
-    const double gx = lerp(lerp(c(1, 0, 0) - c(0, 0, 0), c(1, 1, 0) - c(0, 1, 0), v),
-                           lerp(c(1, 0, 1) - c(0, 0, 1), c(1, 1, 1) - c(0, 1, 1), v), w);
-    const double gy = lerp(lerp(c(0, 1, 0) - c(0, 0, 0), c(1, 1, 0) - c(1, 0, 0), u),
-                           lerp(c(0, 1, 1) - c(0, 0, 1), c(1, 1, 1) - c(1, 0, 1), u), w);
-    const double gz = lerp(lerp(c(0, 0, 1) - c(0, 0, 0), c(1, 0, 1) - c(1, 0, 0), u),
-                           lerp(c(0, 1, 1) - c(0, 1, 0), c(1, 1, 1) - c(1, 1, 0), u), v);
-    return Vec3(float(gx), float(gy), float(gz));
-  });
+  return with_voxels(g, [&](const auto* v) { return cell_gradient(cell_at<double>(v, g, p)); });
 }
 
 }  // namespace frameless

@@ -1,12 +1,11 @@
-// Macrocell ranges, one z-slab of macrocells per task.
+// Macrocell ranges, one z-slab of macrocells per task of the caller's executor.
 #include "core/volume/macrocells.h"
 
 #include <algorithm>
-#include <thread>
 
 namespace frameless {
 
-Macrocells build_macrocells(const VolumeGrid& g, int size) {
+Macrocells build_macrocells(const VolumeGrid& g, int size, const ParallelFor& pf) {
   Macrocells m;
   m.size = size;
   m.mx = (g.nx - 2) / size + 1;  // cells: n - 1 per side
@@ -38,13 +37,7 @@ Macrocells build_macrocells(const VolumeGrid& g, int size) {
           }
         }
     };
-    const int threads = std::max(1, std::min<int>(int(std::thread::hardware_concurrency()), m.mz));
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t)
-      pool.emplace_back([&, t] {
-        for (int c = t; c < m.mz; c += threads) slab(c);
-      });
-    for (std::thread& th : pool) th.join();
+    parallel_for_each(pf, size_t(m.mz), [&](size_t c) { slab(int(c)); });  // slabs write apart
   });
   return m;
 }

@@ -5,6 +5,7 @@
 #pragma once
 #include <vector>
 
+#include "core/base/parallel_for.h"
 #include "core/volume/volume_grid.h"
 
 namespace frameless {
@@ -17,7 +18,7 @@ struct Macrocells {
 };
 
 // The range of every macrocell (cells [a M, a M + M) along x hold the voxels [a M, a M + M]),
-// computed on the machine's threads.
-Macrocells build_macrocells(const VolumeGrid& grid, int size = 8);
+// a z-slab of them per task of the caller's executor (empty: serial).
+Macrocells build_macrocells(const VolumeGrid& grid, int size = 8, const ParallelFor& pf = {});
 
 }  // namespace frameless

@@ -2,9 +2,9 @@
 #include "core/volume/marching_tetrahedra.h"
 
 #include <algorithm>
-#include <thread>
 
 #include "core/volume/isosurface.h"
+#include "core/volume/trilinear.h"
 
 namespace frameless {
 namespace {
@@ -63,11 +63,10 @@ struct Builder {
   void cell(int x, int y, int z) {
     Vec3 cp[8];
     float cv[8];
+    with_voxels(g, [&](const auto* v) { cell_corners(v, g, x, y, z, cv); });
     float lo = kInfinity, hi = -kInfinity;
     for (int c = 0; c < 8; ++c) {
-      const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-      cp[c] = Vec3(float(x + dx), float(y + dy), float(z + dz));
-      cv[c] = g.at(x + dx, y + dy, z + dz);
+      cp[c] = Vec3(float(x + (c & 1)), float(y + ((c >> 1) & 1)), float(z + ((c >> 2) & 1)));
       lo = std::min(lo, cv[c]);
       hi = std::max(hi, cv[c]);
     }
@@ -82,24 +81,20 @@ struct Builder {
 
 }  // namespace
 
-IsoMesh marching_tetrahedra(const VolumeGrid& g, const Macrocells& m, float iso, bool inside_above) {
-  const int threads = std::max(1, std::min<int>(int(std::thread::hardware_concurrency()), m.mz));
-  std::vector<Builder> parts(size_t(threads), Builder{g, iso, inside_above, {}});
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      Builder& b = parts[size_t(t)];
-      for (int cz = t; cz < m.mz; cz += threads)
-        for (int cy = 0; cy < m.my; ++cy)
-          for (int cx = 0; cx < m.mx; ++cx) {
-            const size_t i = m.index(cx, cy, cz);
-            if (!(m.lo[i] <= iso && iso <= m.hi[i])) continue;
-            for (int z = cz * m.size; z < std::min((cz + 1) * m.size, g.nz - 1); ++z)
-              for (int y = cy * m.size; y < std::min((cy + 1) * m.size, g.ny - 1); ++y)
-                for (int x = cx * m.size; x < std::min((cx + 1) * m.size, g.nx - 1); ++x) b.cell(x, y, z);
-          }
-    });
-  for (std::thread& th : pool) th.join();
+IsoMesh marching_tetrahedra(const VolumeGrid& g, const Macrocells& m, float iso, bool inside_above,
+                            const ParallelFor& pf) {
+  std::vector<Builder> parts(size_t(m.mz), Builder{g, iso, inside_above, {}});  // one per z-slab
+  parallel_for_each(pf, size_t(m.mz), [&](size_t cz) {
+    Builder& b = parts[cz];
+    for (int cy = 0; cy < m.my; ++cy)
+      for (int cx = 0; cx < m.mx; ++cx) {
+        const size_t i = m.index(cx, cy, int(cz));
+        if (!(m.lo[i] <= iso && iso <= m.hi[i])) continue;
+        for (int z = int(cz) * m.size; z < std::min((int(cz) + 1) * m.size, g.nz - 1); ++z)
+          for (int y = cy * m.size; y < std::min((cy + 1) * m.size, g.ny - 1); ++y)
+            for (int x = cx * m.size; x < std::min((cx + 1) * m.size, g.nx - 1); ++x) b.cell(x, y, z);
+      }
+  });
   IsoMesh all;
   for (Builder& b : parts) {
     all.positions.insert(all.positions.end(), b.out.positions.begin(), b.out.positions.end());

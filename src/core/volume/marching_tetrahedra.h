@@ -17,7 +17,8 @@ struct IsoMesh {
 };
 
 // The mesh of `iso` (inside: values above it when inside_above), skipping the macrocells whose
-// range misses it; built on the machine's threads (one slab of macrocells per task).
-IsoMesh marching_tetrahedra(const VolumeGrid& grid, const Macrocells& cells, float iso, bool inside_above);
+// range misses it; a z-slab of macrocells per task of the caller's executor (empty: serial).
+IsoMesh marching_tetrahedra(const VolumeGrid& grid, const Macrocells& cells, float iso, bool inside_above,
+                            const ParallelFor& pf = {});
 
 }  // namespace frameless

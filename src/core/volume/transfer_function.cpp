@@ -94,7 +94,9 @@ Result<TransferFunction> TransferFunction::preset(const std::string& name, float
   } else {
     return Error{what + ": unknown transfer function preset '" + name + "' (expected " + preset_names() + ")"};
   }
-  return make(std::move(p), what);
+  auto tf = make(std::move(p), what);
+  if (tf) tf->preset_ = name;
+  return tf;
 }
 
 }  // namespace frameless

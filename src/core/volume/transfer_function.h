@@ -25,7 +25,9 @@ class TransferFunction {
   static Result<TransferFunction> make(std::vector<TransferPoint> points, const std::string& what);
   // Presets over [lo, hi] (the grid's range): "ct-bone", "ct-skin", "grayscale", "hot", "cool-warm".
   static Result<TransferFunction> preset(const std::string& name, float lo, float hi, const std::string& what);
-  static const char* preset_names();  // for messages and --help
+  static const char* preset_names();  // "ct-bone, ct-skin, ...": for messages and --help
+  static constexpr const char* kPresets[] = {"ct-bone", "ct-skin", "grayscale", "hot", "cool-warm"};
+  const std::string& preset() const { return preset_; }  // its preset's name, "" for points
 
   // The table entry of value v (clamped to the end points).
   int index(float v) const {
@@ -49,6 +51,7 @@ class TransferFunction {
 
  private:
   std::vector<TransferPoint> points_;
+  std::string preset_;
   float lo_ = 0.0f, scale_ = 0.0f;
   std::vector<Vec3> color_;
   std::vector<float> opacity_;

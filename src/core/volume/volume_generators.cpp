@@ -1,26 +1,13 @@
-// The built-in volumes: analytic signals sampled on a grid, several threads for the big ones.
+// The built-in volumes: analytic signals sampled on a grid, slice by slice through the caller's executor.
 #include "core/volume/volume_generators.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <thread>
 #include <vector>
 
 namespace frameless {
 namespace {
-
-// Runs f(z) for z in [0, n) on the machine's threads.
-template <class F>
-void parallel_slices(int n, F f) {
-  const int threads = std::max(1, std::min<int>(int(std::thread::hardware_concurrency()), n));
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (int z = t; z < n; z += threads) f(z);
-    });
-  for (std::thread& th : pool) th.join();
-}
 
 // Grid coordinate i of n mapped onto [-1, 1].
 inline float unit(int i, int n) { return -1.0f + 2.0f * float(i) / float(n - 1); }
@@ -65,11 +52,11 @@ constexpr Ellipsoid kHead[10] = {
 // The phantom's ellipsoids have sharp edges, whose trilinear isosurfaces are staircases a voxel
 // high: a [1 2 1] / 4 filter along each axis (about a voxel of blur, as a CT scanner's point
 // spread gives) makes them smooth. In place, a line or a slice pair at a time.
-void smooth_121(uint16_t* v, int nx, int ny, int nz) {
+void smooth_121(uint16_t* v, int nx, int ny, int nz, const ParallelFor& pf) {
   const size_t sy = size_t(nx), sz = size_t(nx) * size_t(ny);
   const auto pass = [&](size_t stride, int n, size_t lines, const auto& line_start) {
-    parallel_slices(int(lines), [&](int line) {
-      uint16_t* p = v + line_start(size_t(line));
+    parallel_for_each(pf, lines, [&](size_t line) {
+      uint16_t* p = v + line_start(line);
       int prev = p[0];
       for (int i = 0; i < n; ++i) {
         const int c = p[size_t(i) * stride], next = i + 1 < n ? p[size_t(i + 1) * stride] : c;
@@ -92,9 +79,10 @@ float marschner_lobb(float x, float y, float z) {
   return float((1.0 - std::sin(kPi * z / 2.0) + kAlpha * (1.0 + rho_r)) / (2.0 * (1.0 + kAlpha)));
 }
 
-std::shared_ptr<const VolumeGrid> make_marschner_lobb(int n) {
+std::shared_ptr<const VolumeGrid> make_marschner_lobb(int n, const ParallelFor& pf) {
   VoxelBuffer<float> v(size_t(n) * n * n);
-  parallel_slices(n, [&](int z) {
+  parallel_for_each(pf, size_t(n), [&](size_t zi) {
+    const int z = int(zi);
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         v[(size_t(z) * n + y) * n + x] = marschner_lobb(unit(x, n), unit(y, n), unit(z, n));
@@ -102,9 +90,10 @@ std::shared_ptr<const VolumeGrid> make_marschner_lobb(int n) {
   return finish(n, n, n, VoxelType::kFloat32, Vec3(2.0f / float(n - 1)), v);
 }
 
-std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz) {
+std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz, const ParallelFor& pf) {
   VoxelBuffer<uint16_t> v(size_t(nx) * ny * nz);
-  parallel_slices(nz, [&](int z) {
+  parallel_for_each(pf, size_t(nz), [&](size_t zi) {
+    const int z = int(zi);
     std::vector<float> row(static_cast<size_t>(nx));
     const float pz = unit(z, nz);
     for (int y = 0; y < ny; ++y) {
@@ -131,15 +120,16 @@ std::shared_ptr<const VolumeGrid> make_shepp_logan(int nx, int ny, int nz) {
       for (int i = 0; i < nx; ++i) out[i] = uint16_t(std::clamp(std::lround(row[size_t(i)] * 4000.0f), 0L, 65535L));
     }
   });
-  for (int pass = 0; pass < 2; ++pass) smooth_121(v.data(), nx, ny, nz);  // a Gaussian of about one voxel
+  for (int pass = 0; pass < 2; ++pass) smooth_121(v.data(), nx, ny, nz, pf);  // a Gaussian of about one voxel
   return finish(nx, ny, nz, VoxelType::kUint16, Vec3(2.0f / float(nx - 1), 2.0f / float(ny - 1), 2.0f / float(nz - 1)),
                 v);
 }
 
-std::shared_ptr<const VolumeGrid> make_sphere_distance(int n) {
+std::shared_ptr<const VolumeGrid> make_sphere_distance(int n, const ParallelFor& pf) {
   VoxelBuffer<float> v(size_t(n) * n * n);
   const float c = 0.5f * float(n - 1);
-  parallel_slices(n, [&](int z) {
+  parallel_for_each(pf, size_t(n), [&](size_t zi) {
+    const int z = int(zi);
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         v[(size_t(z) * n + y) * n + x] = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
@@ -152,7 +142,7 @@ constexpr uint64_t kMaxGeneratedBytes = uint64_t(1) << 30;
 
 bool is_builtin_volume_name(const std::string& name) { return name.rfind("volume:", 0) == 0; }
 
-Result<std::shared_ptr<const VolumeGrid>> make_builtin_volume(const std::string& name) {
+Result<std::shared_ptr<const VolumeGrid>> make_builtin_volume(const std::string& name, const ParallelFor& pf) {
   const size_t colon = name.find(':', 7);
   const std::string kind = name.substr(7, colon == std::string::npos ? std::string::npos : colon - 7);
   const std::string size = colon == std::string::npos ? "" : name.substr(colon + 1);
@@ -176,10 +166,10 @@ Result<std::shared_ptr<const VolumeGrid>> make_builtin_volume(const std::string&
     if (d[k] < 2 || d[k] > 4096) return bad("size '" + size + "' outside 2..4096");
   const uint64_t bytes = uint64_t(d[0]) * uint64_t(d[1]) * uint64_t(d[2]) * (kind == "shepp-logan" ? 2 : 4);
   if (bytes > kMaxGeneratedBytes) return bad("size '" + size + "' makes more than 1 GiB of voxels");
-  if (kind == "shepp-logan") return make_shepp_logan(d[0], d[1], d[2]);
+  if (kind == "shepp-logan") return make_shepp_logan(d[0], d[1], d[2], pf);
   if (count == 3) return bad("only shepp-logan takes three sides");
-  if (kind == "marschner-lobb") return make_marschner_lobb(d[0]);
-  if (kind == "sphere") return make_sphere_distance(d[0]);
+  if (kind == "marschner-lobb") return make_marschner_lobb(d[0], pf);
+  if (kind == "sphere") return make_sphere_distance(d[0], pf);
   return bad("unknown kind '" + kind + "'");
 }
 

@@ -5,40 +5,10 @@
 #include <cmath>
 
 #include "core/volume/isosurface.h"
+#include "core/volume/trilinear.h"
 
 namespace frameless {
 namespace {
-
-template <class T>
-inline float sample(const T* v, const VolumeGrid& g, const Vec3& p) {
-  const int x = std::clamp(int(p.x), 0, g.nx - 2), y = std::clamp(int(p.y), 0, g.ny - 2),
-            z = std::clamp(int(p.z), 0, g.nz - 2);
-  const float u = p.x - float(x), w1 = p.y - float(y), w2 = p.z - float(z);
-  const size_t sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
-  const T* c = v + g.index(x, y, z);
-  const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
-  const float c00 = lerp(float(c[0]), float(c[1]), u), c10 = lerp(float(c[sy]), float(c[sy + 1]), u);
-  const float c01 = lerp(float(c[sz]), float(c[sz + 1]), u), c11 = lerp(float(c[sz + sy]), float(c[sz + sy + 1]), u);
-  return lerp(lerp(c00, c10, w1), lerp(c01, c11, w1), w2);
-}
-
-// The interpolant's gradient at p, in float from the cell's eight voxels (the lighting's normal;
-// isosurfaces use trilinear_gradient's double precision).
-template <class T>
-inline Vec3 gradient(const T* v, const VolumeGrid& g, const Vec3& p) {
-  const int x = std::clamp(int(p.x), 0, g.nx - 2), y = std::clamp(int(p.y), 0, g.ny - 2),
-            z = std::clamp(int(p.z), 0, g.nz - 2);
-  const float u = p.x - float(x), w1 = p.y - float(y), w2 = p.z - float(z);
-  const size_t sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
-  const T* c = v + g.index(x, y, z);
-  const float c000 = float(c[0]), c100 = float(c[1]), c010 = float(c[sy]), c110 = float(c[sy + 1]);
-  const float c001 = float(c[sz]), c101 = float(c[sz + 1]), c011 = float(c[sz + sy]), c111 = float(c[sz + sy + 1]);
-  const auto lerp = [](float a, float b, float s) { return a + s * (b - a); };
-  const float gx = lerp(lerp(c100 - c000, c110 - c010, w1), lerp(c101 - c001, c111 - c011, w1), w2);
-  const float gy = lerp(lerp(c010 - c000, c110 - c100, u), lerp(c011 - c001, c111 - c101, u), w2);
-  const float gz = lerp(lerp(c001 - c000, c101 - c100, u), lerp(c011 - c010, c111 - c110, u), w1);
-  return Vec3(gx, gy, gz);
-}
 
 // Walks the samples of [t0, t1]: sample k stands for the stretch [t0 + k dt, t0 + (k + 1) dt] cut
 // to the part inside the grid and the segment, and is taken at the stretch's middle (clamped into
@@ -92,14 +62,15 @@ VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir
   VolumeSegment out;
   with_voxels(*s.grid, [&](const auto* v) {
     out.samples = walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
-      const int i = s.tf->index(sample(v, *s.grid, p));
+      const TrilinearCell<float> cell = cell_at<float>(v, *s.grid, p);  // the value, then maybe the gradient
+      const int i = s.tf->index(cell_value(cell));
       float a = s.tf->opacity_at(i);
       if (a <= 0.0f) return true;
       Vec3 c = s.tf->color_at(i);
       // Per voxel -> per stretch: from the table for whole stretches (the same arithmetic).
       a = s.step_opacity && cover == 1.0f ? (*s.step_opacity)[size_t(i)]
                                           : 1.0f - std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);
-      if (lighting) c *= lighting->light(p, gradient(v, *s.grid, p));
+      if (lighting) c *= lighting->light(p, cell_gradient(cell));
       out.color += out.transmittance * a * c;
       out.transmittance *= 1.0f - a;
       return out.transmittance >= 1e-3f;
@@ -114,7 +85,7 @@ float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir,
     walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
       Vec3 c;
       float a;
-      s.tf->lookup(sample(v, *s.grid, p), c, a);
+      s.tf->lookup(cell_value(cell_at<float>(v, *s.grid, p)), c, a);
       if (a > 0.0f) t *= std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);
       return t >= 1e-3f;
     });
@@ -129,7 +100,7 @@ bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float 
   float best = -kInfinity;
   const uint32_t n = with_voxels(*s.grid, [&](const auto* v) {
     return walk_samples(plain, org, dir, t0, t1, [&](const Vec3& p, float) {
-      best = std::max(best, sample(v, *s.grid, p));
+      best = std::max(best, cell_value(cell_at<float>(v, *s.grid, p)));
       return true;
     });
   });
