@@ -19,3 +19,6 @@ endif()
 find_package(glfw3 3.3 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
+# OpenVDB files: Blosc decompresses the leaves OpenVDB 10 writes by default (libblosc-dev); the
+# reader is our own (core/io/volume_vdb.h), so OpenVDB itself is not linked.
+pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)

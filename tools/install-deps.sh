@@ -6,7 +6,7 @@ set -euo pipefail
 build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
   libtinyobjloader-dev libcli11-dev libpng-dev zlib1g-dev libglfw3-dev libosmesa6-dev libgl-dev
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
-  libopenmpi-dev openmpi-bin)
+  libopenmpi-dev openmpi-bin libblosc-dev)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3)
 bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy)
 docs_pkgs=(graphviz python3)  # tools/architecture.sh: dot draws docs/architecture.svg, python3 styles it

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "core/io/scene_json.h"
 #include "core/scene/scene_intersect.h"
@@ -173,7 +174,7 @@ TEST(VolumeScene, IsosurfacesCastPenumbraeUnderSoftShadows) {
 }
 
 TEST(VolumeScene, BadVolumeFieldsGiveOneLineErrors) {
-  const std::string raw = constant_raw();
+  const std::string raw = constant_raw(), vdb = std::string(FRAMELESS_TEST_DATA) + "/volumes/fog_blosc.vdb";
   struct Case {
     std::string object, field, says;
   };
@@ -189,7 +190,10 @@ TEST(VolumeScene, BadVolumeFieldsGiveOneLineErrors) {
       {R"({"type":"volume","file":"volume:sphere:8","transfer":[{"value":0,"opacity":0.1},{"value":1,"opacity":2}]})", "objects[0].transfer[1].opacity", "in [0, 1]"},
       {R"({"type":"volume","file":"volume:sphere:8","sampling_rate":0})", "objects[0].sampling_rate", "samples per voxel"},
       {R"({"type":"volume","file":"volume:torus:8"})", "objects[0].file", "unknown kind"},
-      {R"({"type":"volume","file":"head.vdb"})", "objects[0].file", "OpenVDB"},
+      {R"({"type":"volume","file":"head.vdb"})", "objects[0].file", "head.vdb: cannot open"},
+      {R"({"type":"volume","file":")" + vdb + R"(","grid":"pressure"})", "objects[0].file", "no grid named 'pressure'"},
+      {R"({"type":"volume","file":")" + vdb + R"(","spacing":2})", "objects[0].spacing", "their map gives it"},
+      {R"({"type":"volume","file":"volume:sphere:8","grid":"density"})", "objects[0].grid", "only for OpenVDB files"},
       {R"({"type":"volume","file":")" + raw + R"("})", "objects[0].dims", "missing"},
       {R"({"type":"volume","file":")" + raw + R"(","dims":[8,8,9],"format":"float32"})", "objects[0].file", "block.raw"},
       {R"({"type":"volume","file":")" + raw + R"(","dims":[8,8,8],"format":"int7"})", "objects[0].format", "expected uint8, uint16 or float32"},
@@ -205,6 +209,31 @@ TEST(VolumeScene, BadVolumeFieldsGiveOneLineErrors) {
     EXPECT_NE(m.find(c.field), std::string::npos) << m;
     EXPECT_NE(m.find(c.says), std::string::npos) << m;
     EXPECT_EQ(m.find_first_of("\n\r"), std::string::npos) << m;
+  }
+}
+
+// OpenVDB level sets are isosurfaces at 0 with the inside below, placed by the file's map (voxels
+// of 0.5) and then the object's transform; fog volumes go to the volume shader.
+TEST(VolumeScene, OpenVdbGridsArePlacedByTheirMaps) {
+  const std::string data = std::string(FRAMELESS_TEST_DATA) + "/volumes/";
+  auto s = parse(R"({"type":"volume","file":")" + data + R"(sphere_ls_zip.vdb","material":"m","transform":{"translate":[0,0,-10]}},
+                    {"type":"volume","file":")" + data + R"(fog_zip.vdb","grid":"density"})");
+  ASSERT_TRUE(s) << s.error().message;
+  const Scene& scene = **s;
+  ASSERT_EQ(scene.volumes.size(), 2u);
+  EXPECT_EQ(scene.volumes[0].mode, VolumeMode::kIsosurface);
+  EXPECT_EQ(scene.volumes[0].isovalues, std::vector<float>{0.0f});
+  EXPECT_FALSE(scene.volumes[0].inside_above);
+  EXPECT_EQ(scene.volumes[1].mode, VolumeMode::kDirect);
+  // The sphere of radius 3 at (6, 5.5, 6.25 - 10): hit from +z and -x, outward normals.
+  for (const auto& [o, d, want] : {std::tuple{Vec3(6, 5.5f, 20), Vec3(0, 0, -1), Vec3(6, 5.5f, -0.75f)},
+                                   std::tuple{Vec3(-9, 5.5f, -3.75f), Vec3(1, 0, 0), Vec3(3, 5.5f, -3.75f)}}) {
+    const Ray r = ray_from(o, d);
+    Hit hit;
+    ASSERT_TRUE(scene_intersect(scene, nullptr, r, hit));
+    const SurfacePoint sp = scene_surface_point(scene, nullptr, r, hit);
+    EXPECT_LT(glm::distance(sp.p, want), 0.05f) << sp.p.x << " " << sp.p.y << " " << sp.p.z;
+    EXPECT_GT(glm::dot(sp.ng, -d), 0.95f);
   }
 }
 

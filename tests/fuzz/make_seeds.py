@@ -14,7 +14,8 @@ spheres_scalar: selector 9, then a 32-byte FLSPHERE header and 16- or 20-byte re
 instancing scene (scene_instances: selector 0, a JSON scene with "meshes" and "instance" objects)
 were written once by hand from those formats, as were the volume seeds (volume_nrrd_raw,
 volume_nrrd_gzip: selector 11 and an attached NRRD file; volume_raw_u16: selector 12, the 16-byte
-header and 48 bytes of voxels; scene_volumes: selector 0, a JSON scene with all three volume modes).
+header and 48 bytes of voxels; scene_volumes: selector 0, a JSON scene with all three volume modes;
+volume_vdb_*: selector 13, then a fixture of tests/data/volumes written by OpenVDB 10).
 """
 import base64
 import json

@@ -1,5 +1,5 @@
 // libFuzzer target for every parser of scene input. The first byte picks the parser (its value
-// modulo 10), the rest is that parser's input:
+// modulo 14), the rest is that parser's input:
 //   0  JSON scene, base folder /nonexistent ("mesh" and "textures" files are missing)
 //   1  OBJ (parse_obj)
 //   2  PLY (parse_ply)
@@ -22,6 +22,8 @@
 //  12  raw volume: bytes 0-2 are nx, ny, nz less 2, byte 3 % 3 the voxel type (uint8, uint16,
 //      float32), byte 4 & 1 big-endian, bytes 5-15 unused, the rest the voxels (decode_raw_volume);
 //      a grid that loads must hold exactly its voxels and a sane value range
+//  13  OpenVDB file (decode_vdb, the first float or double grid); a grid that loads must be
+//      bricked with every table entry naming a stored brick, and a sane value range
 // Every call must return a value or a one-line, non-empty error; an error message that is empty
 // or holds a newline traps (__builtin_trap), as does a returned value that breaks its documented
 // invariants (mesh indices, per-vertex arrays, material and texture slots, image sizes, finite
@@ -50,6 +52,7 @@
 #include "core/io/sphere_file.h"
 #include "core/io/volume_nrrd.h"
 #include "core/io/volume_raw.h"
+#include "core/io/volume_vdb.h"
 #include "core/scene/scene.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
@@ -342,9 +345,26 @@ void run_wire(const std::string& input) {
 void run_volume(const Result<std::shared_ptr<const VolumeGrid>>& r) {
   if (!r) return check_error(r.error());
   const VolumeGrid& g = *r.value();
-  if (g.storage->size() != g.voxels() * voxel_bytes(g.type)) broken("volume storage size", std::to_string(g.storage->size()));
+  if (!g.storage || g.storage->size() != g.voxels() * voxel_bytes(g.type)) broken("volume storage size", std::to_string(g.bytes()));
   if (!(g.min_value <= g.max_value) || !std::isfinite(g.min_value) || !std::isfinite(g.max_value))
     broken("volume value range", std::to_string(g.min_value) + " " + std::to_string(g.max_value));
+  const Macrocells m = build_macrocells(g);
+  for (size_t i = 0; i < m.lo.size(); ++i)
+    if (m.lo[i] < g.min_value || m.hi[i] > g.max_value) broken("macrocell outside the range", std::to_string(i));
+}
+
+void run_vdb(const Result<VdbVolume>& r) {
+  if (!r) return check_error(r.error());
+  const VolumeGrid& g = *r->bricked.grid;
+  if (!g.bricks || g.storage) broken("an OpenVDB grid that is not bricked", r->name);
+  const BrickPool& p = *g.bricks;
+  if (p.table.size() != size_t(p.bx) * size_t(p.by) * size_t(p.bz) || p.voxels.size() != p.stored() * kBrickVoxels)
+    broken("brick table size", std::to_string(p.table.size()));
+  for (uint32_t b : p.table)
+    if (b >= p.stored()) broken("brick table entry past the pool", std::to_string(b));
+  if (!(g.min_value <= g.max_value) || !std::isfinite(g.min_value) || !std::isfinite(g.max_value))
+    broken("volume value range", std::to_string(g.min_value) + " " + std::to_string(g.max_value));
+  if (g.voxels() > (size_t(1) << 24)) return;  // the macrocells of huge sparse bounds take long
   const Macrocells m = build_macrocells(g);
   for (size_t i = 0; i < m.lo.size(); ++i)
     if (m.lo[i] < g.min_value || m.hi[i] > g.max_value) broken("macrocell outside the range", std::to_string(i));
@@ -353,7 +373,7 @@ void run_volume(const Result<std::shared_ptr<const VolumeGrid>>& r) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const std::string input(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 13) {
+  switch (data[0] % 14) {
     case 0:
       run_scene(parse_scene_json(input, "fuzz.json", "/nonexistent"));
       break;
@@ -428,6 +448,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       run_volume(decode_raw_volume(input.substr(16), spec, "fuzz.raw"));
       break;
     }
+    case 13:
+      run_vdb(decode_vdb(reinterpret_cast<const uint8_t*>(input.data()), input.size(), "fuzz.vdb", ""));
+      break;
   }
   return 0;
 }

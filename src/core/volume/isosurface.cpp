@@ -36,7 +36,8 @@ Cubic cubic_along(const double (&k)[8], const double a[3], const double b[3], do
 }
 
 // The first root of f in [0, len], if any: f is monotone between its extrema, so the first
-// interval whose ends differ in sign (or end on zero) holds it; bisection narrows it to the last bit.
+// interval whose ends differ in sign (or end on zero) holds it; bisection narrows it to the last
+// bit.
 bool first_root(const Cubic& f, double len, double& s) {
   double cuts[4] = {0.0, len, len, len};
   int n = 1;
@@ -86,10 +87,10 @@ bool first_root(const Cubic& f, double len, double& s) {
   return false;
 }
 
-// The walk over one range of cells: cells [lo, hi] (inclusive, per axis), from parameter t to t_end.
-// Returns 1 on a hit (t set), 0 when the walk left the range at t (updated), -1 at t_end.
-template <class T>
-int walk_cells(const T* v, const VolumeGrid& g, double iso, const double o[3], const double d[3], const int lo[3],
+// The walk over one range of cells: cells [lo, hi] (inclusive, per axis), from parameter t to
+// t_end. Returns 1 on a hit (t set), 0 when the walk left the range at t (updated), -1 at t_end.
+template <class Voxels>
+int walk_cells(const Voxels& v, double iso, const double o[3], const double d[3], const int lo[3],
                const int hi[3], double& t, double t_end, float& t_hit) {
   int c[3];
   double next[3];
@@ -114,7 +115,7 @@ int walk_cells(const T* v, const VolumeGrid& g, double iso, const double o[3], c
     const int ax = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     const double t_out = std::min(next[ax], t_end);
     double k[8];
-    cell_corners(v, g, c[0], c[1], c[2], k);
+    v.corners(c[0], c[1], c[2], k);
     const double kmin = *std::min_element(k, k + 8), kmax = *std::max_element(k, k + 8);
     if (kmin <= iso && iso <= kmax && t_out >= t) {
       double a[3], b[3];
@@ -140,7 +141,8 @@ int walk_cells(const T* v, const VolumeGrid& g, double iso, const double o[3], c
 
 }  // namespace
 
-bool clip_to_box(const Vec3& lo, const Vec3& hi, const Vec3& org, const Vec3& dir, float& t0, float& t1) {
+bool clip_to_box(const Vec3& lo, const Vec3& hi, const Vec3& org, const Vec3& dir, float& t0,
+                 float& t1) {
   for (int ax = 0; ax < 3; ++ax) {
     if (dir[ax] == 0.0f) {
       if (org[ax] < lo[ax] || org[ax] > hi[ax]) return false;
@@ -155,19 +157,19 @@ bool clip_to_box(const Vec3& lo, const Vec3& hi, const Vec3& org, const Vec3& di
   return t0 <= t1;
 }
 
-bool intersect_isosurface(const VolumeGrid& g, const Macrocells* m, float iso, const Vec3& org, const Vec3& dir,
-                          float tmin, float tmax, float& t_hit) {
+bool intersect_isosurface(const VolumeGrid& g, const Macrocells* m, float iso, const Vec3& org,
+                          const Vec3& dir, float tmin, float tmax, float& t_hit) {
   if (!(iso >= g.min_value && iso <= g.max_value)) return false;
   float t0 = tmin, t1 = tmax;
   const Vec3 top(float(g.nx - 1), float(g.ny - 1), float(g.nz - 1));
   if (!clip_to_box(Vec3(0.0f), top, org, dir, t0, t1)) return false;
   const double o[3] = {org.x, org.y, org.z}, d[3] = {dir.x, dir.y, dir.z};
   const int last[3] = {g.nx - 2, g.ny - 2, g.nz - 2};  // the last cell per axis
-  return with_voxels(g, [&](const auto* v) {
+  return with_voxels(g, [&](const auto& v) {
     double t = t0;
     if (!m) {
       const int zero[3] = {0, 0, 0};
-      return walk_cells(v, g, iso, o, d, zero, last, t, t1, t_hit) == 1;
+      return walk_cells(v, iso, o, d, zero, last, t, t1, t_hit) == 1;
     }
     // Amanatides and Woo's walk over the macrocells (side M cells); solved cells only inside
     // those whose range holds the isovalue.
@@ -194,7 +196,7 @@ bool intersect_isosurface(const VolumeGrid& g, const Macrocells* m, float iso, c
         const int hi[3] = {std::min(lo[0] + M - 1, last[0]), std::min(lo[1] + M - 1, last[1]),
                            std::min(lo[2] + M - 1, last[2])};
         double tc = t;
-        if (walk_cells(v, g, iso, o, d, lo, hi, tc, t_exit, t_hit) == 1) return true;
+        if (walk_cells(v, iso, o, d, lo, hi, tc, t_exit, t_hit) == 1) return true;
       }
       if (t_exit >= double(t1)) return false;
       t = t_exit;
@@ -206,11 +208,11 @@ bool intersect_isosurface(const VolumeGrid& g, const Macrocells* m, float iso, c
 }
 
 float trilinear_value(const VolumeGrid& g, const Vec3& p) {
-  return with_voxels(g, [&](const auto* v) { return float(cell_value(cell_at<double>(v, g, p))); });
+  return with_voxels(g, [&](const auto& v) { return float(cell_value(cell_at<double>(v, g, p))); });
 }
 
 Vec3 trilinear_gradient(const VolumeGrid& g, const Vec3& p) {
-  return with_voxels(g, [&](const auto* v) { return cell_gradient(cell_at<double>(v, g, p)); });
+  return with_voxels(g, [&](const auto& v) { return cell_gradient(cell_at<double>(v, g, p)); });
 }
 
 }  // namespace frameless

@@ -63,7 +63,7 @@ struct Builder {
   void cell(int x, int y, int z) {
     Vec3 cp[8];
     float cv[8];
-    with_voxels(g, [&](const auto* v) { cell_corners(v, g, x, y, z, cv); });
+    with_voxels(g, [&](const auto& v) { v.corners(x, y, z, cv); });
     float lo = kInfinity, hi = -kInfinity;
     for (int c = 0; c < 8; ++c) {
       cp[c] = Vec3(float(x + (c & 1)), float(y + ((c >> 1) & 1)), float(z + ((c >> 2) & 1)));

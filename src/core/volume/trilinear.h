@@ -16,29 +16,23 @@ struct TrilinearCell {
   R c[8] = {};              // voxel (x + i, y + j, z + k) at c[i + 2j + 4k]
 };
 
-// The eight voxels of cell (x, y, z).
-template <class R, class T>
-inline void cell_corners(const T* vox, const VolumeGrid& g, int x, int y, int z, R (&c)[8]) {
-  const size_t sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
-  const T* p = vox + g.index(x, y, z);
-  c[0] = R(p[0]), c[1] = R(p[1]), c[2] = R(p[sy]), c[3] = R(p[sy + 1]);
-  c[4] = R(p[sz]), c[5] = R(p[sz + 1]), c[6] = R(p[sz + sy]), c[7] = R(p[sz + sy + 1]);
-}
-
-// The cell holding index-space point p (the last cell for points on the grid's far faces).
-template <class R, class T>
-inline TrilinearCell<R> cell_at(const T* vox, const VolumeGrid& g, const Vec3& p) {
+// The cell holding index-space point p (the last cell for points on the grid's far faces); `vox`
+// is the grid's reader (with_voxels).
+template <class R, class Voxels>
+inline TrilinearCell<R> cell_at(const Voxels& vox, const VolumeGrid& g, const Vec3& p) {
   TrilinearCell<R> k;
   k.x = std::clamp(int(std::floor(p.x)), 0, g.nx - 2);
   k.y = std::clamp(int(std::floor(p.y)), 0, g.ny - 2);
   k.z = std::clamp(int(std::floor(p.z)), 0, g.nz - 2);
   k.u = R(p.x) - R(k.x), k.v = R(p.y) - R(k.y), k.w = R(p.z) - R(k.z);
-  cell_corners(vox, g, k.x, k.y, k.z, k.c);
+  vox.corners(k.x, k.y, k.z, k.c);
   return k;
 }
 
 template <class R>
-inline R lerp_cell(R a, R b, R s) { return a + s * (b - a); }
+inline R lerp_cell(R a, R b, R s) {
+  return a + s * (b - a);
+}
 
 template <class R>
 inline R cell_value(const TrilinearCell<R>& k) {
@@ -51,9 +45,12 @@ inline R cell_value(const TrilinearCell<R>& k) {
 template <class R>
 inline Vec3 cell_gradient(const TrilinearCell<R>& k) {
   const R* c = k.c;
-  const R gx = lerp_cell(lerp_cell(c[1] - c[0], c[3] - c[2], k.v), lerp_cell(c[5] - c[4], c[7] - c[6], k.v), k.w);
-  const R gy = lerp_cell(lerp_cell(c[2] - c[0], c[3] - c[1], k.u), lerp_cell(c[6] - c[4], c[7] - c[5], k.u), k.w);
-  const R gz = lerp_cell(lerp_cell(c[4] - c[0], c[5] - c[1], k.u), lerp_cell(c[6] - c[2], c[7] - c[3], k.u), k.v);
+  const R gx = lerp_cell(lerp_cell(c[1] - c[0], c[3] - c[2], k.v),
+                         lerp_cell(c[5] - c[4], c[7] - c[6], k.v), k.w);
+  const R gy = lerp_cell(lerp_cell(c[2] - c[0], c[3] - c[1], k.u),
+                         lerp_cell(c[6] - c[4], c[7] - c[5], k.u), k.w);
+  const R gz = lerp_cell(lerp_cell(c[4] - c[0], c[5] - c[1], k.u),
+                         lerp_cell(c[6] - c[2], c[7] - c[3], k.u), k.v);
   return Vec3(float(gx), float(gy), float(gz));
 }
 

@@ -60,7 +60,7 @@ std::vector<float> macrocell_opacity(const Macrocells& cells, const TransferFunc
 VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1,
                            const SampleLighting* lighting) {
   VolumeSegment out;
-  with_voxels(*s.grid, [&](const auto* v) {
+  with_voxels(*s.grid, [&](const auto& v) {
     out.samples = walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
       const TrilinearCell<float> cell = cell_at<float>(v, *s.grid, p);  // the value, then maybe the gradient
       const int i = s.tf->index(cell_value(cell));
@@ -81,7 +81,7 @@ VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir
 
 float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1) {
   float t = 1.0f;
-  with_voxels(*s.grid, [&](const auto* v) {
+  with_voxels(*s.grid, [&](const auto& v) {
     walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
       Vec3 c;
       float a;
@@ -98,7 +98,7 @@ bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float 
   MarchSetup plain = s;
   plain.cell_opacity = nullptr;  // every sample counts, transparent or not
   float best = -kInfinity;
-  const uint32_t n = with_voxels(*s.grid, [&](const auto* v) {
+  const uint32_t n = with_voxels(*s.grid, [&](const auto& v) {
     return walk_samples(plain, org, dir, t0, t1, [&](const Vec3& p, float) {
       best = std::max(best, cell_value(cell_at<float>(v, *s.grid, p)));
       return true;
