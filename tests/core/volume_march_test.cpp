@@ -31,7 +31,9 @@ TEST(VolumeMarch, HomogeneousBlockTransmitsExpMinusSigmaD) {
     for (float step : {1.0f, 0.5f, 0.125f}) {
       MarchSetup s{g.get(), &m, nullptr, &*tf, step};
       // Straight through along x (16 voxels), and along a diagonal of the z = 8 plane.
-      const float t = march_transmittance(s, Vec3(-3.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 100.0f);
+      const Vec3 tint = march_transmittance(s, Vec3(-3.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 100.0f);
+      EXPECT_TRUE(tint.x == tint.y && tint.y == tint.z) << "a white medium's shadow is grey";
+      const float t = tint.x;
       EXPECT_NEAR(t, std::exp(-sigma * 16.0f), 1e-4f + 1e-3f * t) << alpha << " step " << step;
       // The volume shader's own transmittance agrees with the shadow ray's.
       const VolumeSegment seg = march_volume(s, Vec3(-3.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 100.0f, nullptr);
@@ -39,10 +41,28 @@ TEST(VolumeMarch, HomogeneousBlockTransmitsExpMinusSigmaD) {
       // Emission-absorption of a white medium: what does not get through is emitted.
       if (t >= 1e-3f) EXPECT_NEAR(seg.color.x, 1.0f - t, 1e-4f);
       // A part of the way: from inside to inside, 5.5 voxels.
-      const float part = march_transmittance(s, Vec3(2.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 5.5f);
+      const float part = march_transmittance(s, Vec3(2.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 5.5f).y;
       EXPECT_NEAR(part, std::exp(-sigma * 5.5f), 1e-3f * std::exp(-sigma * 5.5f) + 1e-5f) << alpha << " step " << step;
     }
   }
+}
+
+// A coloured medium's shadow takes its colour (docs/volumes.md: shadow_tint) and keeps the grey
+// medium's optical depth on average over the channels.
+TEST(VolumeMarch, ColouredMediaCastColouredShadows) {
+  const auto g = constant_grid(17, 1.0f);
+  const Macrocells m = build_macrocells(*g);
+  const Vec3 colour(1.0f, 0.5f, 0.2f);
+  auto tf = TransferFunction::make({{0.0f, colour, 0.1f}, {2.0f, colour, 0.1f}}, "tf");
+  ASSERT_TRUE(tf);
+  const MarchSetup s{g.get(), &m, nullptr, &*tf, 0.5f};
+  const Vec3 t = march_transmittance(s, Vec3(-3.0f, 8.0f, 8.0f), Vec3(1, 0, 0), 0.0f, 100.0f);
+  EXPECT_GT(t.x, t.y);  // red passes most, blue least
+  EXPECT_GT(t.y, t.z);
+  const float grey_depth = -std::log(0.9f) * 16.0f;
+  EXPECT_NEAR(-(std::log(t.x) + std::log(t.y) + std::log(t.z)) / 3.0f, grey_depth, 1e-3f * grey_depth);
+  // Weights 1.05 - c = (0.05, 0.55, 0.85) over their mean 1.45 / 3: red keeps 0.15 / 1.45 of the grey depth.
+  EXPECT_NEAR(-std::log(t.x), grey_depth * 0.15f / 1.45f, 1e-3f);
 }
 
 TEST(VolumeMarch, ImagesDoNotDependOnTheSamplingRate) {

@@ -127,14 +127,14 @@ VolumeSegment volumes_along(const Scene& scene, const Ray& ray, float t_end, con
   return total;
 }
 
-float volumes_transmittance(const Scene& scene, const Ray& ray) {
-  float t = 1.0f;
+Vec3 volumes_transmittance(const Scene& scene, const Ray& ray) {
+  Vec3 t(1.0f);
   for (const VolumeObject& v : scene.volumes) {
     if (v.mode != VolumeMode::kDirect) continue;
     float a = ray.tmin, b = ray.tmax;
     if (!in_bounds(v, ray, a, b) || !(b > a)) continue;
     t *= march_transmittance(v.march(), v.to_index.point(ray.org), v.to_index.vector(ray.dir), a, b);
-    if (t <= 0.0f) return 0.0f;
+    if (max_component(t) <= 0.0f) return Vec3(0.0f);
   }
   return t;
 }

@@ -27,7 +27,7 @@ struct VolumeLighting {
 // of what lies behind that passes; `lighting` shades volume-shader samples (null: unlit).
 VolumeSegment volumes_along(const Scene& scene, const Ray& ray, float t_end, const VolumeLighting* lighting);
 // What a shadow ray [tmin, tmax] keeps through the volume-shader volumes (MIP volumes cast none).
-float volumes_transmittance(const Scene& scene, const Ray& ray);
+Vec3 volumes_transmittance(const Scene& scene, const Ray& ray);
 // Whether the scene has volumes that light passes through (volume shader or MIP).
 inline bool has_see_through_volumes(const Scene& scene) { return scene.see_through_volumes; }
 

@@ -28,14 +28,14 @@ namespace {
 
 // The share of a light sample's light that reaches origin: 0 when something blocks it, else what
 // the volume shader's volumes let through (1 without them).
-float visible(const DirectLight& st, const Vec3& origin, const LightSample& ls) {
+Vec3 visible(const DirectLight& st, const Vec3& origin, const LightSample& ls) {
   Ray r;
   r.org = origin;
   r.dir = ls.wi;
   r.tmin = 0.0f;
   r.tmax = ls.tmax;
-  if (scene_occluded(st.scene, st.frame, r)) return 0.0f;
-  return st.scene.see_through_volumes ? volume_shadow(st.scene, r, false) : 1.0f;
+  if (scene_occluded(st.scene, st.frame, r)) return Vec3(0.0f);
+  return st.scene.see_through_volumes ? volume_shadow(st.scene, r, false) : Vec3(1.0f);
 }
 
 }  // namespace
@@ -63,7 +63,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     }
     if (absorbing) contrib *= beer(extinction, ls.tmax);
     if (max_component(contrib) > 0.0f)
-      if (const float v = visible(st, origin, ls); v > 0.0f) sum += contrib * v;
+      if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += contrib * v;
   }
   if (!smooth || st.strategy == LightStrategy::kBsdfOnly) return sum;
   if (!st.scene.emitters.empty()) {
@@ -75,7 +75,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       if (c > 0.0f && max_component(f) > 0.0f) {
         const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
         const Vec3 t = absorbing ? beer(extinction, ls.tmax) : Vec3(1.0f);
-        if (const float v = visible(st, origin, ls); v > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
+        if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
       }
     }
   }
@@ -90,7 +90,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     if (max_component(f) > 0.0f) {
       const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
       const Vec3 t = absorbing ? beer(extinction, kInfinity) : Vec3(1.0f);
-      if (const float v = visible(st, origin, ls); v > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
+      if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
     }
   }
   return sum;

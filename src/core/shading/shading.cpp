@@ -152,8 +152,8 @@ template <class F>
       if (scene_intersect(scene, c.frame, shadow, blocker)) continue;
     }
     if (scene.see_through_volumes) {  // transparent shadows of the volume shader's volumes
-      const float t = volume_shadow(scene, shadow, false);
-      if (t > 0.0f) f(light.color * t, l, nl);
+      const Vec3 t = volume_shadow(scene, shadow, false);
+      if (max_component(t) > 0.0f) f(light.color * t, l, nl);
       continue;
     }
     f(light.color, l, nl);

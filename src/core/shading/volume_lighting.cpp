@@ -35,15 +35,15 @@ bool through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& r
   return max_component(beta) > 0.0f;
 }
 
-float volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces) {
-  if (scene.volumes.empty()) return 1.0f;
-  if (isosurfaces && volumes_occlude(scene, ray)) return 0.0f;
-  return scene.see_through_volumes ? volumes_transmittance(scene, ray) : 1.0f;
+Vec3 volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces) {
+  if (scene.volumes.empty()) return Vec3(1.0f);
+  if (isosurfaces && volumes_occlude(scene, ray)) return Vec3(0.0f);
+  return scene.see_through_volumes ? volumes_transmittance(scene, ray) : Vec3(1.0f);
 }
 
-float volume_cone_shadow(const Scene& scene, const Ray& ray, float tan_half) {
+Vec3 volume_cone_shadow(const Scene& scene, const Ray& ray, float tan_half) {
   const ShadingFrame f = make_shading_frame(ray.dir);
-  float sum = volume_shadow(scene, ray, true);
+  Vec3 sum = volume_shadow(scene, ray, true);
   const float r = 0.5f * tan_half;
   const Vec2 offsets[4] = {Vec2(r, 0.0f), Vec2(-r, 0.0f), Vec2(0.0f, r), Vec2(0.0f, -r)};
   for (const Vec2& o : offsets) {

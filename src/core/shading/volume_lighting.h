@@ -31,11 +31,11 @@ bool through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& r
 // A shadow ray's share of light through the volumes: 0 when an isosurface blocks it (with
 // `isosurfaces`; the hard-shadow queries already test them), else the volume shader's
 // transmittance.
-float volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces);
+Vec3 volume_shadow(const Scene& scene, const Ray& ray, bool isosurfaces);
 
 // The same over the cone a light subtends (tan of its half-angle): the mean of five rays, the
 // centre and four at half the cone's radius, so isosurfaces cast penumbrae under Parker's
 // single-sample soft shadows, whose cone query does not see them.
-float volume_cone_shadow(const Scene& scene, const Ray& ray, float tan_half);
+Vec3 volume_cone_shadow(const Scene& scene, const Ray& ray, float tan_half);
 
 }  // namespace frameless

@@ -58,4 +58,15 @@ class TransferFunction {
   void exact(float v, Vec3& color, float& opacity) const;  // piecewise linear, not tabulated
 };
 
+// Shadow rays' colour through a sample of colour c (a chosen model, stated in docs/volumes.md:
+// emission-absorption alone has grey shadows): the sample's optical depth weighted per channel
+// by 1.05 - c (c clamped to [0, 1]) over the mean of those weights, so a medium absorbs least
+// where its colour is strongest, grey media keep exp(-sigma d) exactly, and the mean optical
+// depth over the channels is the grey one.
+inline Vec3 shadow_tint(const Vec3& c) {
+  const Vec3 w = Vec3(1.05f) - glm::clamp(c, Vec3(0.0f), Vec3(1.0f));
+  if (w.x == w.y && w.y == w.z) return Vec3(1.0f);
+  return w * (3.0f / (w.x + w.y + w.z));
+}
+
 }  // namespace frameless

@@ -79,18 +79,21 @@ VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir
   return out;
 }
 
-float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1) {
-  float t = 1.0f;
+Vec3 march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1) {
+  constexpr float kOpaque = 6.9077553f;  // -ln(1e-3)
+  Vec3 depth(0.0f);                      // optical depth per channel
   with_voxels(*s.grid, [&](const auto& v) {
     walk_samples(s, org, dir, t0, t1, [&](const Vec3& p, float cover) {
       Vec3 c;
       float a;
       s.tf->lookup(cell_value(cell_at<float>(v, *s.grid, p)), c, a);
-      if (a > 0.0f) t *= std::pow(1.0f - std::min(a, 0.999999f), s.step * cover);
-      return t >= 1e-3f;
+      if (a > 0.0f) depth += shadow_tint(c) * (-std::log(1.0f - std::min(a, 0.999999f)) * s.step * cover);
+      return std::min(depth.x, std::min(depth.y, depth.z)) < kOpaque;
     });
   });
-  return t < 1e-3f ? 0.0f : t;
+  Vec3 t;
+  for (int k = 0; k < 3; ++k) t[k] = depth[k] < kOpaque ? std::exp(-depth[k]) : 0.0f;
+  return t;
 }
 
 bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value,

@@ -43,8 +43,9 @@ struct MarchSetup {
 // of the light gets through (early ray termination).
 VolumeSegment march_volume(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1,
                            const SampleLighting* lighting);
-// The product of (1 - a) over the same samples: what a shadow ray keeps.
-float march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1);
+// The product of (1 - a) over the same samples, per channel tinted by each sample's colour
+// (shadow_tint): what a shadow ray keeps; 0 in channels below 1e-3.
+Vec3 march_transmittance(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1);
 // The largest interpolated value over the samples (maximum intensity projection); false when no
 // sample lies in [t0, t1].
 bool march_maximum(const MarchSetup& s, const Vec3& org, const Vec3& dir, float t0, float t1, float& value,
