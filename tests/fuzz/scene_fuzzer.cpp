@@ -355,8 +355,8 @@ void run_volume(const Result<std::shared_ptr<const VolumeGrid>>& r) {
 
 void run_vdb(const Result<VdbVolume>& r) {
   if (!r) return check_error(r.error());
-  const VolumeGrid& g = *r->bricked.grid;
-  if (!g.bricks || g.storage) broken("an OpenVDB grid that is not bricked", r->name);
+  const VolumeGrid& g = *r.value().bricked.grid;
+  if (!g.bricks || g.storage) broken("an OpenVDB grid that is not bricked", r.value().name);
   const BrickPool& p = *g.bricks;
   if (p.table.size() != size_t(p.bx) * size_t(p.by) * size_t(p.bz) || p.voxels.size() != p.stored() * kBrickVoxels)
     broken("brick table size", std::to_string(p.table.size()));
