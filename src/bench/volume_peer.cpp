@@ -93,9 +93,10 @@ double render_with_vdb_render(const std::string& args, std::string& out) {
   return done == std::string::npos ? -1.0 : std::atof(out.c_str() + done + 12);
 }
 
-std::string camera_json(double c, double eye_z) {
+// "{" and the camera of both comparisons (on +z, looking at the centre).
+std::string scene_start(double c, double eye_z) {
   char s[256];
-  std::snprintf(s, sizeof s, R"("camera": {"eye": [%g, %g, %g], "look": [%g, %g, %g], "fov": 40})",
+  std::snprintf(s, sizeof s, R"({"camera": {"eye": [%g, %g, %g], "look": [%g, %g, %g], "fov": 40})",
                 c, c, eye_z, c, c, c);
   return s;
 }
@@ -143,7 +144,7 @@ nlohmann::json compare_with_vdb_render(int n, int w, int h, int threads, const s
           R"({"type": "volume", "file": "%s", "dims": [%d, %d, %d], "format": "float32", "isovalue": 0,
                         "inside": "below", "material": "m"})",
           raw.c_str(), n, n, n);
-    auto s = parse_scene_json("{" + camera_json(c, eye_z) +
+    auto s = parse_scene_json(scene_start(c, eye_z) +
                                   R"(, "materials": {"m": {"class": "diffuse"}}, "objects": [)" +
                                   object + "]}",
                               dir + "/sdf.json", dir);
@@ -213,7 +214,8 @@ nlohmann::json compare_fog_with_vdb_render(int n, int w, int h, int threads,
   auto img = load_image(exr);
   if (!img || (*img)->width != w || (*img)->height != h || (*img)->channels < 4)
     return {{"skipped", "vdb_render's image (RGBA) could not be read back"}};
-  // frameless: the volume shader, unlit, opacity per voxel 1 - exp(-sigma v) (17 points), rate 1.
+  // frameless: the volume shader, unlit, opacity per voxel 1 - exp(-sigma v) (17 points), rate 1,
+  // every sample taken (no adaptive sampling: the same samples as vdb_render's).
   std::string points;
   for (int i = 0; i <= 16; ++i) {
     char p[96];
@@ -222,8 +224,8 @@ nlohmann::json compare_fog_with_vdb_render(int n, int w, int h, int threads,
     points += p;
   }
   auto s = parse_scene_json(
-      "{" + camera_json(c, eye_z) + R"(, "objects": [{"type": "volume", "file": ")" + vdb +
-          R"(", "mode": "direct", "shade": false, "sampling_rate": 1, "transfer": [)" + points +
+      scene_start(c, eye_z) + R"(, "objects": [{"type": "volume", "file": ")" + vdb +
+          R"(", "mode": "direct", "shade": false, "adaptive": false, "sampling_rate": 1, "transfer": [)" + points +
           "]}]}",
       dir + "/fog.json", dir);
   if (!s) return {{"skipped", s.error().message}};

@@ -118,7 +118,7 @@ void parse_volume(const json& o, const std::string& f, Scene& s, const std::stri
                   const MaterialLookup& material) {
   check_keys(o, f,
              {"type", "file", "grid", "dims", "format", "endian", "spacing", "offset", "transform",
-              "mode", "isovalue", "material", "inside", "transfer", "sampling_rate", "shade"});
+              "mode", "isovalue", "material", "inside", "transfer", "sampling_rate", "shade", "adaptive"});
   if (s.volumes.size() >= 4096) fail(f, "too many volumes (at most 4096)");
   GridSource from;
   VolumeObject v;
@@ -161,7 +161,7 @@ void parse_volume(const json& o, const std::string& f, Scene& s, const std::stri
         fail(f + ".inside", "expected above or below, got '" + in + "'");
       v.inside_above = in == "above";
     }
-    for (const char* key : {"transfer", "sampling_rate", "shade"})
+    for (const char* key : {"transfer", "sampling_rate", "shade", "adaptive"})
       if (o.contains(key)) fail(f + "." + key, "only for the direct and mip modes");
   } else if (mode == "direct" || mode == "mip") {
     v.mode = mode == "direct" ? VolumeMode::kDirect : VolumeMode::kMip;
@@ -172,6 +172,7 @@ void parse_volume(const json& o, const std::string& f, Scene& s, const std::stri
       v.step = 1.0f / get_float(o["sampling_rate"], f + ".sampling_rate", 0.05, 64.0,
                                 "in [0.05, 64] samples per voxel");
     if (o.contains("shade")) v.shade = get_bool(o["shade"], f + ".shade");
+    if (o.contains("adaptive")) v.adaptive = get_bool(o["adaptive"], f + ".adaptive");
   } else {
     fail(f + ".mode", "expected isosurface, direct or mip, got '" + mode + "'");
   }

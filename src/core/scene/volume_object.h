@@ -25,6 +25,10 @@ inline constexpr uint32_t kVolumePrimBase = 0xb0000000u;
 inline constexpr uint32_t kMaxIsovalues = 16;
 inline bool is_volume_prim(uint32_t prim) { return prim >= kVolumePrimBase && prim < 0xc0000000u; }
 
+// Adaptive sampling's threshold: macrocells whose largest opacity per voxel is below it are
+// sampled every kThinStretches steps (docs/volumes.md gives its error).
+inline constexpr float kAdaptiveOpacity = 0.02f;
+
 struct VolumeObject {
   std::string source;  // file name or built-in generator, for messages
   std::shared_ptr<const VolumeGrid> grid;
@@ -38,6 +42,7 @@ struct VolumeObject {
   std::vector<float> step_opacity;       // its opacities per step (TransferFunction::step_opacity)
   float step = 0.5f;                     // voxels between the volume shader's samples
   bool shade = true;                     // kDirect: light samples by their gradient
+  bool adaptive = true;                  // kDirect: thin samples in nearly transparent macrocells
   Affine to_world;                       // grid index space -> world
   Affine to_index;                       // world -> grid index space
   glm::mat3 normal_to_world{1.0f};       // gradients (index space) -> world normals
@@ -45,7 +50,8 @@ struct VolumeObject {
   float scale = 1.0f;                    // largest world coordinate magnitude of the bounds
 
   MarchSetup march() const {
-    return MarchSetup{grid.get(), cells.get(), &cell_opacity, tf.get(), step, step_opacity.empty() ? nullptr : &step_opacity};
+    return MarchSetup{grid.get(), cells.get(), &cell_opacity, tf.get(), step, step_opacity.empty() ? nullptr : &step_opacity,
+                      adaptive ? kAdaptiveOpacity : 0.0f};
   }
   // Sets the transfer function and what is derived from it (needs the macrocells).
   void set_transfer(std::shared_ptr<const TransferFunction> f);

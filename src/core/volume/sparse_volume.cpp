@@ -13,8 +13,9 @@ namespace {
 int64_t floor8(int64_t v) { return v >= 0 ? v / 8 * 8 : -((-v + 7) / 8 * 8); }
 
 std::string at_index(const Index3& o, int i, int j, int k) {
-  return "(" + std::to_string(int64_t(o[0]) + i) + ", " + std::to_string(int64_t(o[1]) + j) + ", " +
-         std::to_string(int64_t(o[2]) + k) + ")";
+  std::string s = "(";  // appended: GCC 12 warns falsely about the "(" + string form
+  s.append(std::to_string(int64_t(o[0]) + i)).append(", ").append(std::to_string(int64_t(o[1]) + j));
+  return s.append(", ").append(std::to_string(int64_t(o[2]) + k)).append(")");
 }
 
 }  // namespace

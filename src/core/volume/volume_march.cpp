@@ -33,12 +33,26 @@ uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, flo
     if (m) {
       const int cx = std::clamp(int(p.x), 0, g.nx - 2) / m->size, cy = std::clamp(int(p.y), 0, g.ny - 2) / m->size,
                 cz = std::clamp(int(p.z), 0, g.nz - 2) / m->size;
-      if ((*s.cell_opacity)[m->index(cx, cy, cz)] <= 0.0f) {
-        // On to the stretch where the ray leaves this macrocell's box (its samples are transparent).
+      const float opacity = (*s.cell_opacity)[m->index(cx, cy, cz)];
+      if (opacity <= 0.0f || opacity < s.thin_below) {
         const Vec3 box = Vec3(float(cx), float(cy), float(cz)) * float(m->size);
         float e0 = a, e1 = b;
-        if (clip_to_box(box, box + float(m->size), org, dir, e0, e1)) k = std::max(k, int64_t(std::floor((e1 - t0) / dt)) - 1);
-        continue;
+        const bool in_box = clip_to_box(box, box + float(m->size), org, dir, e0, e1);
+        if (opacity <= 0.0f) {
+          // On to the stretch where the ray leaves this macrocell's box (its samples are transparent).
+          if (in_box) k = std::max(k, int64_t(std::floor((e1 - t0) / dt)) - 1);
+          continue;
+        }
+        // Nearly transparent: one sample, at their middle, for the stretches that end in the box.
+        const int64_t group = in_box ? std::min<int64_t>(kThinStretches, int64_t(std::floor((std::min(e1, b) - t0) / dt)) - k) : 1;
+        if (group >= 2) {
+          const float glo = std::max(a, t0 + float(k) * dt), ghi = std::min(b, t0 + float(k + group) * dt);
+          const Vec3 q = glm::clamp(org + (t0 + (float(k) + 0.5f * float(group)) * dt) * dir, Vec3(0.0f), top);
+          ++taken;
+          if (!visit(q, (ghi - glo) / dt)) break;
+          k += group - 1;
+          continue;
+        }
       }
     }
     ++taken;
