@@ -2,12 +2,14 @@
 #include "core/volume/macrocells.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace frameless {
 
 Macrocells build_macrocells(const VolumeGrid& g, int size, const ParallelFor& pf) {
   Macrocells m;
-  m.size = size;
+  m.size = int(std::bit_floor(unsigned(std::max(size, 1))));  // a power of two: the walks shift
+  size = m.size;
   m.mx = (g.nx - 2) / size + 1;  // cells: n - 1 per side
   m.my = (g.ny - 2) / size + 1;
   m.mz = (g.nz - 2) / size + 1;

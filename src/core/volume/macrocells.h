@@ -11,7 +11,7 @@
 namespace frameless {
 
 struct Macrocells {
-  int size = 8;            // cells per macrocell side
+  int size = 8;            // cells per macrocell side, a power of two
   int mx = 0, my = 0, mz = 0;
   std::vector<float> lo, hi;  // per macrocell: the smallest and largest voxel of its cells' corners
   size_t index(int x, int y, int z) const { return (size_t(z) * size_t(my) + size_t(y)) * size_t(mx) + size_t(x); }

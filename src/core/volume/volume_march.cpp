@@ -2,6 +2,7 @@
 #include "core/volume/volume_march.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "core/volume/isosurface.h"
@@ -24,6 +25,7 @@ uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, flo
   if (!(len > 0.0f)) return 0;
   const float dt = s.step / len;
   const Macrocells* m = s.cell_opacity ? s.cells : nullptr;
+  const int shift = m ? std::countr_zero(unsigned(m->size)) : 0;  // macrocell sides are powers of two
   uint32_t taken = 0;
   for (int64_t k = int64_t(std::floor((a - t0) / dt));; ++k) {
     const float lo = std::max(a, t0 + float(k) * dt), hi = std::min(b, t0 + float(k + 1) * dt);
@@ -31,8 +33,8 @@ uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, flo
     if (!(hi > lo)) continue;
     const Vec3 p = glm::clamp(org + (t0 + (float(k) + 0.5f) * dt) * dir, Vec3(0.0f), top);
     if (m) {
-      const int cx = std::clamp(int(p.x), 0, g.nx - 2) / m->size, cy = std::clamp(int(p.y), 0, g.ny - 2) / m->size,
-                cz = std::clamp(int(p.z), 0, g.nz - 2) / m->size;
+      const int cx = std::clamp(int(p.x), 0, g.nx - 2) >> shift, cy = std::clamp(int(p.y), 0, g.ny - 2) >> shift,
+                cz = std::clamp(int(p.z), 0, g.nz - 2) >> shift;
       const float opacity = (*s.cell_opacity)[m->index(cx, cy, cz)];
       if (opacity <= 0.0f || opacity < s.thin_below) {
         const Vec3 box = Vec3(float(cx), float(cy), float(cz)) * float(m->size);
