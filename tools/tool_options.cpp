@@ -1,6 +1,8 @@
 // Flags of the shared options: see tool_options.h.
 #include "tools/tool_options.h"
 
+#include "core/io/shader_library.h"
+
 namespace frameless::cli {
 
 void add_camera_flags(CLI::App& app, CameraOptions& camera) {
@@ -24,6 +26,11 @@ void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
                  "light transport: whitted (Parker's model), path (unbiased path tracing) or igi "
                  "(instant global illumination); "
                  "default: path for scenes with emitters, whitted otherwise, or the scene's own");
+  // Read as the command line is parsed: scenes load after it.
+  app.add_option_function<std::vector<std::string>>(
+         "--shader-path", [](const std::vector<std::string>& folders) { set_shader_search_path(folders); },
+         "folders searched first for plug-in shaders NAME.so (then $FRAMELESS_SHADER_PATH, then the scene's folder)")
+      ->delimiter(':');
 }
 
 }  // namespace frameless::cli

@@ -395,7 +395,9 @@ void parse_scene(const json& root, Context& ctx) {
     if (mats.size() > 65535) fail("materials", "too many materials (at most 65535)");
     for (auto it = mats.begin(); it != mats.end(); ++it) {
       const std::string f = "materials." + it.key();
-      ctx.materials[it.key()] = add_material(s, parse_material(it.key(), it.value(), f, ctx.textures, s));
+      const bool shaded = it.value().is_object() && it.value().contains("shader");
+      ctx.materials[it.key()] = add_material(s, shaded ? parse_shader_material(it.key(), it.value(), f, s, ctx.base_dir)
+                                                       : parse_material(it.key(), it.value(), f, ctx.textures, s));
     }
   }
   if (root.contains("meshes")) parse_shared_meshes(root["meshes"], ctx);

@@ -6,6 +6,10 @@
 
 #include "core/io/scene_json_materials.h"
 
+#include <cstdio>
+
+#include "core/io/shader_library.h"
+
 namespace frameless::scene_json {
 namespace {
 
@@ -141,7 +145,7 @@ void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageC
 Material parse_material(const std::string& name, const json& j, const std::string& f,
                         const TextureNames& textures, const Scene& scene) {
   require_object(j, f);
-  if (!j.contains("class")) fail(f + ".class", "missing (diffuse, metal, dielectric or polished)");
+  if (!j.contains("class")) fail(f + ".class", "missing (diffuse, metal, dielectric or polished; or a \"shader\")");
   const std::string cls = get_string(j["class"], f + ".class");
   Material m;
   m.name = name;
@@ -187,5 +191,59 @@ Material parse_material(const std::string& name, const json& j, const std::strin
   return m;
 }
 
+
+Material parse_shader_material(const std::string& name, const json& j, const std::string& f, Scene& scene,
+                               const std::string& base_dir) {
+  require_object(j, f);
+  check_keys(j, f, {"shader", "params", "emission"});
+  auto loaded = load_shader(get_string(j["shader"], f + ".shader"), base_dir);
+  if (!loaded) fail(f + ".shader", loaded.error().message);
+  const fl_shader& sh = *loaded->shader;
+  ShaderMaterial bound{&sh, shader_defaults(sh), loaded->library};
+  if (j.contains("params")) {
+    const json& params = require_object(j["params"], f + ".params");
+    for (auto it = params.begin(); it != params.end(); ++it) {
+      const std::string pf = f + ".params." + it.key();
+      int count = 0;
+      const int at = shader_param_offset(sh, it.key(), count);
+      if (at < 0) {
+        std::string declared;
+        for (uint32_t i = 0; i < sh.param_count; ++i) declared += (i ? ", " : "") + std::string(sh.params[i].name);
+        fail(pf, "unknown parameter of shader '" + std::string(sh.name) + "' (" +
+                     (declared.empty() ? std::string("it declares none") : "it declares " + declared) + ")");
+      }
+      const fl_param* decl = nullptr;
+      for (uint32_t i = 0; i < sh.param_count && !decl; ++i)
+        if (it.key() == sh.params[i].name) decl = &sh.params[i];
+      char range[96];
+      std::snprintf(range, sizeof range, "in [%g, %g]", double(decl->min), double(decl->max));
+      if (count == 1) {
+        bound.params[size_t(at)] = get_float(it.value(), pf, decl->min, decl->max, range);
+      } else {
+        if (!it.value().is_array() || it.value().size() != 3) fail(pf, "expected [r, g, b]");
+        for (int k = 0; k < 3; ++k)
+          bound.params[size_t(at + k)] = get_float(it.value()[size_t(k)], pf + "[" + std::to_string(k) + "]", decl->min, decl->max, range);
+      }
+    }
+  }
+  if (scene.shaders.size() >= 65535) fail(f, "too many shader materials (at most 65535)");
+  Material m;
+  m.name = name;
+  m.cls = MaterialClass::kShader;
+  m.shader = uint16_t(scene.shaders.size());
+  m.kd = Vec3(0.5f);
+  if (sh.albedo) {
+    const fl_vec3 a = sh.albedo(bound.params.data());
+    m.kd = Vec3(a.x, a.y, a.z);
+    if (!is_finite(m.kd)) fail(f + ".shader", loaded->library + ": albedo() returned a non-finite colour");
+    m.kd = glm::clamp(m.kd, Vec3(0.0f), Vec3(1.0f));
+  }
+  if (j.contains("emission")) {
+    m.emission = get_color(j["emission"], f + ".emission");
+    if (max_component(m.emission) > 1e6f) fail(f + ".emission", "must be at most 1e6");
+  }
+  scene.shaders.push_back(std::move(bound));
+  return m;
+}
 
 }  // namespace frameless::scene_json

@@ -21,4 +21,10 @@ void parse_textures(const json& j, Scene& s, const std::string& base_dir, ImageC
 Material parse_material(const std::string& name, const json& j, const std::string& f,
                         const TextureNames& textures, const Scene& scene);
 
+// One entry of "materials" that names a plug-in shader ({"shader": NAME, "params": {...}}): the
+// library loaded from the search path (core/io/shader_library.h) and the parameters checked by
+// its declaration; adds the binding to scene.shaders.
+Material parse_shader_material(const std::string& name, const json& j, const std::string& f, Scene& scene,
+                               const std::string& base_dir);
+
 }  // namespace frameless::scene_json

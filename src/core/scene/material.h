@@ -7,7 +7,9 @@
 
 namespace frameless {
 
-enum class MaterialClass : uint8_t { kDiffuse, kMetal, kDielectric, kPolished };
+// kShader: a plug-in shader (Scene::shaders[shader]) shades it for Whitted; path tracing and igi
+// read it as diffuse with kd = the shader's albedo.
+enum class MaterialClass : uint8_t { kDiffuse, kMetal, kDielectric, kPolished, kShader };
 
 // One record for all classes; each class reads only the fields it needs:
 //  diffuse:    kd                              (k_h = k_s = k_t = 0)
@@ -45,6 +47,7 @@ struct MaterialParams {
   // glTF metallic-roughness metals: their roughness, read by the path tracer as GGX with
   // alpha = roughness^2 and f0 = k_s (Whitted keeps the Phong lobe derived from it). < 0: none.
   float roughness = -1.0f;
+  uint16_t shader = 0;  // kShader: index into Scene::shaders
 
   bool textured() const {
     return kd_tex != kNoTexture || kh_tex != kNoTexture || ks_tex != kNoTexture ||

@@ -9,6 +9,7 @@ const char* material_class_name(MaterialClass c) {
     case MaterialClass::kMetal: return "metal";
     case MaterialClass::kDielectric: return "dielectric";
     case MaterialClass::kPolished: return "polished";
+    case MaterialClass::kShader: return "shader";
   }
   return "unknown";
 }

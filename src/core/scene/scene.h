@@ -12,6 +12,7 @@
 #include "core/scene/environment.h"
 #include "core/scene/light.h"
 #include "core/scene/material.h"
+#include "core/scene/shader_material.h"
 #include "core/scene/volume_object.h"
 
 namespace frameless {
@@ -90,6 +91,7 @@ struct Scene {
   Geometry geometry;
   std::vector<Material> materials;  // geometry material ids index this
   std::vector<Texture> textures;    // material texture slots index this
+  std::vector<ShaderMaterial> shaders;  // plug-in shaded materials' MaterialParams::shader indexes this
   std::vector<uint8_t> cutout_materials;  // per material: has an alpha cut-out (accel reads it)
   std::vector<Light> lights;
   EmitterTable emitters;  // emissive triangles as area lights (finalize_scene builds it)

@@ -35,6 +35,8 @@ inline float coat_probability(const PathSurface& s) {
 PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world) {
   PathSurface s;
   s.m = m;
+  // Plug-in shaders are Whitted's; light transport reads them as diffuse with their albedo (kd).
+  if (s.m.cls == MaterialClass::kShader) s.m.cls = MaterialClass::kDiffuse;
   // An interpolated normal can face away from the viewer at silhouettes: shade with the
   // geometric normal there rather than lose the vertex (Whitted clamps the same way).
   s.frame = make_shading_frame(glm::dot(sp.ns, wo_world) > 0.0f ? sp.ns : sp.ng);
@@ -120,7 +122,8 @@ bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter
     return glm::dot(out.wi, s.ng) > 0.0f && max_component(out.weight) > 0.0f && is_finite(out.weight);
   }
   switch (s.m.cls) {
-    case MaterialClass::kDiffuse: {
+    case MaterialClass::kDiffuse:
+    case MaterialClass::kShader: {  // make_path_surface turns plug-ins diffuse; kept for completeness
       const BsdfSample b = lambert_sample(s.m.kd, s.wo, u1, u2);
       out.wi = s.frame.to_world(b.wi);
       out.weight = b.weight;

@@ -1,0 +1,35 @@
+// Plug-in shader libraries (issue 28; include/frameless/shader.h): where they are looked for,
+// loading each once (dlopen), and checking what they declare, so that a broken or mismatched
+// library is one line, not a crash. Loading happens on the loading thread; the libraries stay
+// loaded for the process (their code runs on the render threads).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/base/error.h"
+#include "frameless/shader.h"
+
+namespace frameless {
+
+// Folders searched first, in order (the command line's --shader-path); then the folders of the
+// FRAMELESS_SHADER_PATH variable (':'-separated); then the scene file's folder.
+void set_shader_search_path(std::vector<std::string> folders);
+std::vector<std::string> shader_search_path(const std::string& scene_dir);
+
+struct LoadedShader {
+  const fl_shader* shader = nullptr;
+  std::string library;  // the file loaded
+};
+
+// The shader NAME (letters, digits, '_' and '-'): NAME.so or libNAME.so in the first folder of
+// the search path that has one, loaded once per process, its entry point called and its
+// declaration checked (interface version, a name, shade(), parameters well formed).
+Result<LoadedShader> load_shader(const std::string& name, const std::string& scene_dir);
+
+// Where a parameter's values sit in a material's parameter block; -1 when the shader declares
+// no parameter of that name.
+int shader_param_offset(const fl_shader& s, const std::string& name, int& count);
+// The block of default values, in declaration order.
+std::vector<float> shader_defaults(const fl_shader& s);
+
+}  // namespace frameless
