@@ -1,6 +1,7 @@
 // `frameless bench scaling`: samples/s of the frameless engine and primary-ray Mrays/s of the BVH
 // for 1, 2, ... threads up to the hardware threads and oversubscribed (2x, 4x); speed-up and
-// efficiency against linear scaling (capped at the core count).
+// efficiency against linear scaling (capped at the core count); and the conventional mode's frame
+// barrier per frame (release mean and worst, completion, load-imbalance wait) at each count.
 #include "bench/bench_scaling.h"
 
 #include <atomic>
@@ -37,6 +38,22 @@ Throughput engine_rate(const Scene& scene, EngineConfig c, double seconds) {
   e.stop();
   if (e.error()) throw std::runtime_error(*e.error());
   return {double(b.samples - a.samples) / (b.seconds - a.seconds), (cpu1 - cpu0) / wall};
+}
+
+// Conventional mode's frame barrier (Parker et al. section 2.1: RTRT's took 61 us on 64 CPUs):
+// frames of 64 x 64 pixels, many barriers a second, for `seconds`.
+EngineStats barrier_run(const Scene& scene, int threads, double seconds) {
+  EngineConfig c;
+  c.width = c.height = 64;
+  c.threads = threads;
+  c.mode = RenderMode::conventional;
+  Engine e(scene, c, scene.camera);
+  e.start();
+  sleep_s(seconds);
+  const EngineStats s = e.stats();
+  e.stop();
+  if (e.error()) throw std::runtime_error(*e.error());
+  return s;
 }
 
 // Primary rays through every pixel (pixel centres plus jitter-free repeats) traced with
@@ -121,6 +138,7 @@ int run_scaling(const ScalingOptions& options) {
       c.threads = t;
       const Throughput th = engine_rate(*scene, c, a.seconds);
       const double rays = ray_rate(*scene, width, height, t, a.seconds);
+      const EngineStats bar = barrier_run(*scene, t, a.seconds);
       if (base_s == 0)
         base_s = th.samples_per_s / a.threads.front();  // per-thread rate of the first point
       if (base_r == 0) base_r = rays / a.threads.front();
@@ -139,7 +157,12 @@ int run_scaling(const ScalingOptions& options) {
                              {"ray_efficiency", rsp / ideal},
                              {"cpu_cores_used", th.cpu_fraction},
                              {"samples_per_cpu_s", per_cpu},
-                             {"cpu_efficiency", per_cpu / base_cpu}});
+                             {"cpu_efficiency", per_cpu / base_cpu},
+                             {"barrier_frames", bar.barrier_frames},
+                             {"barrier_release_mean_us", bar.barrier_release_mean_us},
+                             {"barrier_release_max_us", bar.barrier_release_max_us},
+                             {"barrier_completion_mean_us", bar.barrier_completion_mean_us},
+                             {"barrier_wait_mean_us", bar.barrier_wait_mean_us}});
       csv.rows.push_back({std::to_string(t), csv_number(th.samples_per_s), csv_number(sp),
                           csv_number(sp / ideal), csv_number(rays * 1e-6), csv_number(rsp),
                           csv_number(rsp / ideal), csv_number(th.cpu_fraction),
@@ -183,6 +206,13 @@ int run_scaling(const ScalingOptions& options) {
                   p["threads"].get<int>(), p["samples_per_s"].get<double>() * 1e-6,
                   p["efficiency"].get<double>(), p["mrays_per_s"].get<double>(),
                   p["ray_efficiency"].get<double>());
+    std::printf("  conventional mode's frame barrier (64x64 frames; Parker's RTRT: 61 us on 64 CPUs):\n");
+    for (const auto& p : j["points"])
+      std::printf("  %3d threads: %6llu frames, release %.1f us mean, %.1f us worst; completion %.1f us; "
+                  "waiting for the slowest thread %.1f us\n",
+                  p["threads"].get<int>(), (unsigned long long)p["barrier_frames"].get<uint64_t>(),
+                  p["barrier_release_mean_us"].get<double>(), p["barrier_release_max_us"].get<double>(),
+                  p["barrier_completion_mean_us"].get<double>(), p["barrier_wait_mean_us"].get<double>());
     std::printf("  (efficiency per CPU-second: ");
     for (const auto& p : j["points"]) std::printf("%.2f ", p["cpu_efficiency"].get<double>());
     std::printf(")\n  wrote %s/scaling.json\n", a.out.c_str());

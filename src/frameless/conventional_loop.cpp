@@ -109,14 +109,38 @@ void publish_frame(Engine::Impl& e) {
   e.frames.completed.fetch_add(1, std::memory_order_release);
 }
 
+namespace {
+int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
 void Engine::Impl::FrameDone::operator()() noexcept {
   // Runs on one thread once all have arrived: publish the finished frame, start the next.
+  const int64_t begin = steady_ns();
+  if (!e->barrier_arrive_ns.empty()) {
+    // The previous barrier's release: from its completion's end to the last thread leaving.
+    if (e->done_end_ns > 0) {
+      const int64_t last_leave = *std::max_element(e->barrier_leave_ns.begin(), e->barrier_leave_ns.end());
+      const uint64_t release = uint64_t(std::max<int64_t>(0, last_leave - e->done_end_ns));
+      e->barrier_frames.fetch_add(1, std::memory_order_relaxed);
+      e->barrier_release_sum_ns.fetch_add(release, std::memory_order_relaxed);
+      if (release > e->barrier_release_max_ns.load(std::memory_order_relaxed))
+        e->barrier_release_max_ns.store(release, std::memory_order_relaxed);
+      e->barrier_done_sum_ns.fetch_add(uint64_t(e->done_end_ns - e->done_begin_ns), std::memory_order_relaxed);
+    }
+    // This barrier's wait for the slowest thread (load imbalance): first arrival to the last.
+    const int64_t first = *std::min_element(e->barrier_arrive_ns.begin(), e->barrier_arrive_ns.end());
+    e->barrier_wait_sum_ns.fetch_add(uint64_t(std::max<int64_t>(0, begin - first)), std::memory_order_relaxed);
+  }
+  e->done_begin_ns = begin;
   e->frame_stop = e->stop_flag.load(std::memory_order_relaxed);
   if (!e->frame_stop) {
     publish_frame(*e);
     begin_frame(*e);
   }
   e->next_job.store(0, std::memory_order_relaxed);
+  e->done_end_ns = steady_ns();
 }
 
 void conventional_thread_main(Engine::Impl& e, int t) {
@@ -135,7 +159,9 @@ void conventional_thread_main(Engine::Impl& e, int t) {
                            e.frames.buf[e.frames.back].data(), nullptr);
         e.counters[t].busy_ns.store(thread_cpu_ns() - cpu0, std::memory_order_relaxed);  // per job
       }
+      e.barrier_arrive_ns[size_t(t)] = steady_ns();
       e.barrier->arrive_and_wait();
+      e.barrier_leave_ns[size_t(t)] = steady_ns();
       if (e.frame_stop) break;
     }
   } catch (const std::exception& ex) {

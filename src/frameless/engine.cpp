@@ -196,6 +196,12 @@ void Engine::start() {
     for (int t = 0; t < e.threads; ++t)
       if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(piece_thread_main, std::ref(e), t);
   } else {
+    e.barrier_arrive_ns.assign(size_t(e.threads), 0);
+    e.barrier_leave_ns.assign(size_t(e.threads), 0);
+    e.done_begin_ns = e.done_end_ns = 0;
+    for (auto* a : {&e.barrier_frames, &e.barrier_release_sum_ns, &e.barrier_release_max_ns, &e.barrier_done_sum_ns,
+                    &e.barrier_wait_sum_ns})
+      a->store(0, std::memory_order_relaxed);
     e.barrier = std::make_unique<std::barrier<Impl::FrameDone>>(e.threads, Impl::FrameDone{&e});
     for (int t = 0; t < e.threads; ++t)
       e.thread_handles.emplace_back(conventional_thread_main, std::ref(e), t);
@@ -423,6 +429,13 @@ EngineStats Engine::stats() const {
   s.seconds = e.now() - e.start_time.load(std::memory_order_relaxed);
   s.camera_epoch = e.channel.epoch();
   s.frames_completed = e.frames.completed.load(std::memory_order_relaxed);
+  if (const uint64_t n = e.barrier_frames.load(std::memory_order_relaxed); n > 0) {
+    s.barrier_frames = n;
+    s.barrier_release_mean_us = double(e.barrier_release_sum_ns.load(std::memory_order_relaxed)) / double(n) * 1e-3;
+    s.barrier_release_max_us = double(e.barrier_release_max_ns.load(std::memory_order_relaxed)) * 1e-3;
+    s.barrier_completion_mean_us = double(e.barrier_done_sum_ns.load(std::memory_order_relaxed)) / double(n) * 1e-3;
+    s.barrier_wait_mean_us = double(e.barrier_wait_sum_ns.load(std::memory_order_relaxed)) / double(n) * 1e-3;
+  }
   for (int t = 0; t < e.threads; ++t) {
     ThreadStats ts;
     ts.pixels = e.cfg.mode == RenderMode::frameless ? e.partition.pixels[size_t(t)].size() : 0;

@@ -42,6 +42,13 @@ struct EngineStats {
   double samples_per_s = 0;          // samples / seconds since start()
   double seconds = 0;                // engine seconds since start() (virtual in deterministic mode)
   uint64_t frames_completed = 0;     // conventional mode: frames finished since start()
+  // Conventional mode's frame barrier (Parker et al. section 2.1), per frame: the release (from
+  // the barrier's completion to the last thread running again: the synchronisation itself), its
+  // mean and worst; the completion's own work (publishing the frame, starting the next); the wait
+  // from the first thread's arrival to the last's (load imbalance). Zero in frameless mode.
+  uint64_t barrier_frames = 0;
+  double barrier_release_mean_us = 0, barrier_release_max_us = 0;
+  double barrier_completion_mean_us = 0, barrier_wait_mean_us = 0;
   uint32_t camera_epoch = 0;         // newest published epoch
 };
 

@@ -189,6 +189,14 @@ struct Engine::Impl {
   bool frame_stop = false;
   size_t frame_pos = 0;  // deterministic: pixels of the current frame already rendered
   std::unique_ptr<std::barrier<FrameDone>> barrier;
+  // The barrier's own cost (Parker et al. section 2.1): per thread, when it arrived and when it
+  // left (its slot written by it alone, read in the next completion: the barrier orders them);
+  // the completion's start and end; per frame, the time from the completion's end to the last
+  // thread leaving (the release), summed by the completion (atomics: stats() reads them).
+  std::vector<int64_t> barrier_arrive_ns, barrier_leave_ns;
+  int64_t done_begin_ns = 0, done_end_ns = 0;
+  std::atomic<uint64_t> barrier_frames{0}, barrier_release_sum_ns{0}, barrier_release_max_ns{0},
+      barrier_done_sum_ns{0}, barrier_wait_sum_ns{0};
 
   // Control.
   std::mutex layout_mutex;  // held by control while rebuilding or changing cfg, by the display while collecting, by stats()

@@ -163,6 +163,31 @@ TEST(Engine, WallClockRendersAndReconfigures) {
   EXPECT_FALSE(e.error());
 }
 
+// The conventional mode measures its frame barrier (bench scaling reports it): one release per
+// frame after the first, worst at least the mean, all finite; frameless mode has no barrier.
+TEST(Engine, ConventionalModeMeasuresItsFrameBarrier) {
+  EngineConfig c = test_config(40, 30, 2, noisy_shader);
+  c.mode = RenderMode::conventional;
+  Engine e(kEmptyScene, c, camera_at(0));
+  e.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const EngineStats s = e.stats();
+  e.stop();
+  ASSERT_GT(s.frames_completed, 2u);
+  EXPECT_GE(s.barrier_frames + 2, s.frames_completed);  // every barrier but the newest measured
+  EXPECT_GT(s.barrier_frames, 0u);
+  EXPECT_TRUE(std::isfinite(s.barrier_release_mean_us) && s.barrier_release_mean_us >= 0.0);
+  EXPECT_GE(s.barrier_release_max_us, s.barrier_release_mean_us);
+  EXPECT_GE(s.barrier_completion_mean_us, 0.0);
+  EXPECT_GE(s.barrier_wait_mean_us, 0.0);
+  EngineConfig f = test_config(40, 30, 2, noisy_shader);
+  Engine g(kEmptyScene, f, camera_at(0));
+  g.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  EXPECT_EQ(g.stats().barrier_frames, 0u);
+  g.stop();
+}
+
 TEST(Engine, FailingRenderThreadStopsEngineWithError) {
   for (bool deterministic : {false, true}) {
     EngineConfig c = test_config(20, 20, 2, throwing_shader);
