@@ -14,8 +14,9 @@ void add_camera_flags(CLI::App& app, CameraOptions& camera) {
 
 void add_shadow_flags(CLI::App& app, ShadowOptions& shadows) {
   app.add_option("--shadows", shadows.mode,
-                 "shadows of lights with a radius: soft (single-sample, default), hard, or area "
-                 "(reference: --shadow-samples rays per light)");
+                 "shadows of lights with a radius: soft (single-sample, default), hard, area "
+                 "(reference: --shadow-samples rays per light) or beam (Parker's: 4 fixed rays across the "
+                 "light, traced as one packet)");
   app.add_option("--shadow-samples", shadows.samples, "rays per light for --shadows area (1..4096)");
   app.add_flag("--transparent-shadows", shadows.transparent,
                "dielectrics attenuate shadow rays (k_t and absorption) instead of blocking them");

@@ -35,8 +35,9 @@ bool ShadowOptions::apply(Scene& scene, std::string& error) const {
   if (mode == "soft") m = ShadowMode::kSoft;
   else if (mode == "hard") m = ShadowMode::kHard;
   else if (mode == "area") m = ShadowMode::kArea;
+  else if (mode == "beam") m = ShadowMode::kBeam;
   else if (!mode.empty()) {
-    error = "--shadows: expected soft, hard or area, got '" + mode + "'";
+    error = "--shadows: expected soft, hard, area or beam, got '" + mode + "'";
     return false;
   }
   int n = scene.settings.shadow_samples;

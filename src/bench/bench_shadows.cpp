@@ -44,6 +44,7 @@ int run_shadows(const ShadowBenchOptions& a) {
       {"hard", ShadowMode::kHard, false, AmbientKind::kNone},
       {"soft", ShadowMode::kSoft, false, AmbientKind::kNone},
       {"area16", ShadowMode::kArea, false, AmbientKind::kNone},
+      {"beam", ShadowMode::kBeam, false, AmbientKind::kNone},
       {"hard+transparent", ShadowMode::kHard, true, AmbientKind::kNone},
       {"soft+transparent", ShadowMode::kSoft, true, AmbientKind::kNone},
       {"soft+constant-ambient", ShadowMode::kSoft, false, AmbientKind::kConstant},

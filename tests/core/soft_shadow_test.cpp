@@ -104,6 +104,30 @@ TEST(SoftShadow, InnerObjectGivesZeroAndClearingTheOuterGivesOneExactly) {
   EXPECT_EQ(soft_visibility(*e, query_to(Vec3(5, -1, 0), Vec3(0, 10, 0), 1.0f)), 1.0f);
 }
 
+// Parker's beam shadows: four fixed rays across the light, one packet. Under the half-plane's
+// edge the visibility steps 0, 1/2, 1 as the point moves out (the four rays split two and two
+// between the plate and the sky), the packet answers as the rays do one by one, and where the
+// area reference is deep in shadow or fully lit the beam agrees exactly.
+TEST(SoftShadow, BeamShadowsStepInQuartersAndMatchSingleRays) {
+  auto s = edge_scene();
+  EXPECT_EQ(beam_visibility(*s, query_to(Vec3(-5, -1, 0), Vec3(0, 10, 0), 1.0f)).x, 0.0f);
+  EXPECT_EQ(beam_visibility(*s, query_to(Vec3(5, -1, 0), Vec3(0, 10, 0), 1.0f)).x, 1.0f);
+  EXPECT_EQ(beam_visibility(*s, query_to(Vec3(0, -1, 0), Vec3(0, 10, 0), 1.0f)).x, 0.5f);
+  float last = 0.0f;
+  for (int i = 0; i <= 80; ++i) {
+    const float x = -2.0f + 0.05f * float(i);
+    const ShadowQuery q = query_to(Vec3(x, -4.0f, 0.3f), Vec3(0, 10, 0), 1.0f);
+    const float v = beam_visibility(*s, q).x;
+    EXPECT_EQ(v * 4.0f, std::round(v * 4.0f)) << x;  // quarters only
+    EXPECT_GE(v, last) << x;                          // never darker further out
+    last = v;
+    // Ray by ray (the path with a moving-object frame) gives the same answer as the packet.
+    const DynamicFrame frame;
+    EXPECT_EQ(beam_visibility(*s, q, &frame).x, v) << x;
+  }
+  EXPECT_EQ(last, 1.0f);
+}
+
 TEST(SoftShadow, TouchingOccludersLeakNoLight) {
   auto s = make_empty_scene();
   s->materials.push_back(Material{});

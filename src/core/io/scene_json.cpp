@@ -103,7 +103,8 @@ void parse_settings(const json& j, RenderSettings& r) {
     if (m == "soft") r.shadows = ShadowMode::kSoft;
     else if (m == "hard") r.shadows = ShadowMode::kHard;
     else if (m == "area") r.shadows = ShadowMode::kArea;
-    else fail("settings.shadows", "unknown mode '" + m + "' (soft, hard or area)");
+    else if (m == "beam") r.shadows = ShadowMode::kBeam;
+    else fail("settings.shadows", "unknown mode '" + m + "' (soft, hard, area or beam)");
   }
   if (j.contains("shadow_samples"))
     r.shadow_samples = int(get_int(j["shadow_samples"], "settings.shadow_samples", 1, 4096));

@@ -26,7 +26,7 @@ struct Light {
 //  hard: one ray to the light's centre (s is 0 or 1);
 //  soft: Parker, Shirley and Smits' single-sample soft shadows (one cone query per light);
 //  area: the reference, shadow_samples rays spread over the cone the light subtends.
-enum class ShadowMode : uint8_t { kHard, kSoft, kArea };
+enum class ShadowMode : uint8_t { kHard, kSoft, kArea, kBeam };
 const char* shadow_mode_name(ShadowMode m);
 
 enum class AmbientKind : uint8_t { kNone, kConstant, kHemisphere, kIrradianceVolume };

@@ -19,6 +19,7 @@ const char* shadow_mode_name(ShadowMode m) {
     case ShadowMode::kHard: return "hard";
     case ShadowMode::kSoft: return "soft";
     case ShadowMode::kArea: return "area";
+    case ShadowMode::kBeam: return "beam";
   }
   return "unknown";
 }

@@ -79,6 +79,7 @@ Vec3 extended_visibility(const ShadeContext& c, const Light& light, const Vec3& 
   if (mode == ShadowMode::kHard || !(tan_half > 0.0f)) {
     return shadow_transmittance(c.scene, ray, false, c.frame);  // only reached with transparent shadows
   }
+  if (mode == ShadowMode::kBeam) return beam_visibility(c.scene, q, c.frame);
   if (mode == ShadowMode::kSoft) {
     const float s = soft_visibility(c.scene, q, c.frame);
     if (!(s > 0.0f) || !st.transparent_shadows) return Vec3(s);

@@ -425,6 +425,31 @@ float soft_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFra
   return query.finish();
 }
 
+Vec3 beam_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFrame* frame) {
+  // Four directions, each standing for a quarter of the cone's disc: at sqrt(1/2) of its radius
+  // (the circle splitting the disc's area in halves), at 45, 135, 225 and 315 degrees.
+  const ShadingFrame axes = make_shading_frame(q.dir);
+  const float t = std::tan(q.half_angle) * 0.70710678f * 0.70710678f;
+  const Vec2 pattern[4] = {Vec2(t, t), Vec2(-t, t), Vec2(-t, -t), Vec2(t, -t)};
+  Ray rays[4];
+  for (int k = 0; k < 4; ++k) {
+    rays[k].org = q.org;
+    rays[k].dir = glm::normalize(q.dir + pattern[k].x * axes.t + pattern[k].y * axes.b);
+    rays[k].tmax = q.tmax;
+  }
+  Vec3 visible(0.0f);
+  if (q.skip_dielectrics) {
+    for (const Ray& r : rays) visible += shadow_transmittance(scene, r, false, frame);
+  } else if (frame || !scene.volumes.empty()) {
+    for (const Ray& r : rays) visible += scene_occluded(scene, frame, r) ? Vec3(0.0f) : Vec3(1.0f);
+  } else {
+    bool blocked[4];
+    scene.accel.occluded_packet(rays, 4, blocked);
+    for (bool b : blocked) visible += b ? Vec3(0.0f) : Vec3(1.0f);
+  }
+  return 0.25f * visible;
+}
+
 Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng,
                      const DynamicFrame* frame) {
   samples = std::max(1, samples);

@@ -30,6 +30,13 @@ float edge_visibility(float x);
 float soft_visibility(const Scene& scene, const ShadowQuery& q,
                       const DynamicFrame* frame = nullptr);
 
+// Parker et al.'s beam shadows (section 3.2): four shadow rays in a fixed pattern across the
+// light's cone (the same for every point: precomputed for a distant light), traced together as
+// one packet; the fraction that gets through (0, 1/4, ... 1). Deterministic, so its penumbrae
+// are banded; without moving objects, volumes or transparent shadows the four share one
+// traversal (Accel::occluded_packet), else they go ray by ray.
+Vec3 beam_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFrame* frame = nullptr);
+
 // Area-sampled reference: `samples` rays spread (stratified) over the cone; the fraction
 // unblocked, or with q.skip_dielectrics (transparent shadows) their mean transmittance.
 Vec3 area_visibility(const Scene& scene, const ShadowQuery& q, int samples, Rng& rng,
