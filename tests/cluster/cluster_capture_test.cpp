@@ -325,3 +325,29 @@ TEST(ClusterCapture, RgbeWireOnTheWallClockAndRefusedWhenDeterministic) {
 
 }  // namespace
 }  // namespace frameless::test
+
+namespace frameless::test {
+namespace {
+
+// Plug-in shaders (docs/shaders.md) under the cluster: every rank loads the scene and its
+// shaders; a client without the library on its shader path stops every rank with one line.
+TEST(ClusterCapture, PluginShadersLoadOnEveryRankOrStopTheJobWithOneLine) {
+  FRAMELESS_REQUIRE_MPI();
+  const fs::path dir = fresh_dir("cluster_shaders");
+  const std::string scene = (fs::path(FRAMELESS_TEST_DATA).parent_path().parent_path() / "docs" / "scenes" / "shaders.json").string();
+  const std::string base = "capture " + scene + " --deterministic --size 32x24 --duration 0.2 --no-mp4 --no-contact-sheet";
+  const std::string path = std::string(" --shader-path ") + FRAMELESS_SHADER_DIR;
+  const std::string good = " --out " + (dir / "good").string(), bad = " --out " + (dir / "bad").string();
+  const CommandResult ok = run_pair(base + path + good, base + path + good);
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_FALSE(frames_in(dir / "good").empty());
+  const CommandResult r = run_pair(base + path + bad, base + bad);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("rank 1: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("shader 'bricks': no bricks.so"), std::string::npos) << r.output;
+  EXPECT_EQ(lines_with(r.output, "frameless:"), 1) << r.output;
+  EXPECT_TRUE(!fs::exists(dir / "bad") || frames_in(dir / "bad").empty());
+}
+
+}  // namespace
+}  // namespace frameless::test
