@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages frameless needs, only when some are missing (idempotent, quiet
-# when everything is present). Usage: tools/install-deps.sh [--test] [--bench] [--docs]
+# when everything is present). Usage: tools/install-deps.sh [--test] [--bench] [--docs] [--fixtures]
 set -euo pipefail
 
 build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
@@ -9,6 +9,9 @@ build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopene
   libopenmpi-dev openmpi-bin libblosc-dev)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3)
 bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy)
+# tests/data/volumes/make_vdb_fixtures.cpp (by hand only: it rewrites the OpenVDB test fixtures
+# with OpenVDB itself; frameless's own reader links none of these)
+fixtures_pkgs=(libopenvdb-dev libboost-dev libboost-iostreams-dev)
 docs_pkgs=(graphviz python3)  # tools/architecture.sh: dot draws docs/architecture.svg, python3 styles it
 
 want=("${build_pkgs[@]}")
@@ -17,7 +20,8 @@ for arg in "$@"; do
     --test) want+=("${test_pkgs[@]}") ;;
     --bench) want+=("${bench_pkgs[@]}") ;;
     --docs) want+=("${docs_pkgs[@]}") ;;
-    *) echo "install-deps.sh: unknown option '$arg' (use --test, --bench, --docs)" >&2; exit 2 ;;
+    --fixtures) want+=("${fixtures_pkgs[@]}") ;;
+    *) echo "install-deps.sh: unknown option '$arg' (use --test, --bench, --docs, --fixtures)" >&2; exit 2 ;;
   esac
 done
 

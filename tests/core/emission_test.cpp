@@ -15,6 +15,7 @@
 #include "core/io/scene_json.h"
 #include "core/scene/scene_finalize.h"
 #include "core/shading/shading.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {
@@ -28,26 +29,21 @@ Result<std::unique_ptr<Scene>> parse(const std::string& materials, const std::st
                           "t.json", ".");
 }
 
-Vec3 radiance(const Scene& s, const Vec3& org, const Vec3& dir) {
-  Ray r;
-  r.org = org;
-  r.dir = glm::normalize(dir);
-  return trace_radiance(s, r, 0, Vec3(1.0f), nullptr);
-}
+using testing::radiance_along;
 
 TEST(Emission, JsonEmitterIsSeenWithItsRadiance) {
   auto s = parse(R"("e":{"class":"diffuse","kd":0,"emission":[2,3,0.5]})");
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_TRUE((*s)->features.has_emission);
-  EXPECT_EQ(radiance(**s, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(2.0f, 3.0f, 0.5f));
-  EXPECT_EQ(radiance(**s, Vec3(2, 0, 3), Vec3(0, 0, -1)), Vec3(0.0f));  // misses the quad
+  EXPECT_EQ(radiance_along(**s, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(2.0f, 3.0f, 0.5f));
+  EXPECT_EQ(radiance_along(**s, Vec3(2, 0, 3), Vec3(0, 0, -1)), Vec3(0.0f));  // misses the quad
   // An emitter also reflects: its diffuse part lit by the ambient adds to what it emits.
   auto lit = parse_scene_json(R"({"ambient":{"type":"constant","color":0.5},
       "materials":{"e":{"class":"diffuse","kd":0.5,"emission":1}},
       "objects":[{"type":"plane","point":[0,0,0],"normal":[0,0,1],"size":1,"material":"e"}]})",
                               "t.json", ".");
   ASSERT_TRUE(lit.ok()) << lit.error().message;
-  EXPECT_EQ(radiance(**lit, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(1.25f));
+  EXPECT_EQ(radiance_along(**lit, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(1.25f));
 }
 
 TEST(Emission, MirrorShowsTheEmitter) {
@@ -58,7 +54,7 @@ TEST(Emission, MirrorShowsTheEmitter) {
                  R"(,{"type":"plane","point":[0,0,3],"normal":[0,0,-1],"size":10,"material":"m"})");
   ASSERT_TRUE(s.ok()) << s.error().message;
   // From between the two, looking at the mirror: the reflected ray comes straight back to the quad.
-  const Vec3 c = radiance(**s, Vec3(0, 0, 1), Vec3(0, 0, 1));
+  const Vec3 c = radiance_along(**s, Vec3(0, 0, 1), Vec3(0, 0, 1));
   EXPECT_NEAR(c.x, 2.0f, 1e-5f);
 }
 
@@ -71,7 +67,7 @@ TEST(Emission, AnEmissionTextureAloneGivesTheRadiance) {
                             "t.json", ".");
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_EQ((*s)->materials.at(0).emission, Vec3(1.0f));
-  const Vec3 c = radiance(**s, Vec3(0.1f, 0.1f, 3), Vec3(0, 0, -1));
+  const Vec3 c = radiance_along(**s, Vec3(0.1f, 0.1f, 3), Vec3(0, 0, -1));
   EXPECT_NEAR(c.x, 3.0f, 1e-5f);
   EXPECT_NEAR(c.z, 1.0f, 1e-5f);
 }
@@ -80,7 +76,7 @@ TEST(Emission, ScenesWithoutEmittersSkipIt) {
   auto s = parse(R"("e":{"class":"diffuse","kd":0.5})");
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_FALSE((*s)->features.has_emission);
-  EXPECT_EQ(radiance(**s, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(0.0f));
+  EXPECT_EQ(radiance_along(**s, Vec3(0, 0, 3), Vec3(0, 0, -1)), Vec3(0.0f));
 }
 
 TEST(Emission, BadJsonEmissionIsAOneLineErrorNamingTheField) {

@@ -10,6 +10,7 @@
 #include "core/io/shader_library.h"
 #include "core/shading/render_sample.h"
 #include "core/shading/shading.h"
+#include "shading_scenes.h"
 
 namespace frameless {
 namespace {
@@ -23,12 +24,7 @@ Result<std::unique_ptr<Scene>> parse(const std::string& materials, const std::st
                           "/nonexistent/s.json", "/nonexistent");
 }
 
-Vec3 radiance(const Scene& s, const Vec3& org, const Vec3& dir) {
-  Ray r;
-  r.org = org;
-  r.dir = glm::normalize(dir);
-  return trace_radiance(s, r, 0, Vec3(1.0f), nullptr);
-}
+using testing::radiance_along;
 
 constexpr const char* kSphere = R"({"type":"sphere","center":[0,0,0],"radius":1,"material":"m"})";
 
@@ -38,8 +34,8 @@ TEST(ShaderPlugin, GoochIsWarmTowardsTheLightAndCoolAway) {
   ASSERT_EQ((*s)->shaders.size(), 1u);
   EXPECT_EQ(std::string((*s)->shaders[0].shader->name), "gooch");
   // The light is at +x (and in front): the sphere's +x side faces it, its -x side faces away.
-  const Vec3 lit = radiance(**s, Vec3(0.7f, 0, 10), Vec3(0, 0, -1));
-  const Vec3 dark = radiance(**s, Vec3(-0.7f, 0, 10), Vec3(0, 0, -1));
+  const Vec3 lit = radiance_along(**s, Vec3(0.7f, 0, 10), Vec3(0, 0, -1));
+  const Vec3 dark = radiance_along(**s, Vec3(-0.7f, 0, 10), Vec3(0, 0, -1));
   EXPECT_GT(lit.x, lit.z) << "warm: more red than blue";
   EXPECT_GT(dark.z, dark.x) << "cool: more blue than red";
   // The formula: t = (1 + n.l) / 2 with n = (0.7, 0, 0.714) and l towards (20, 0, 5).
@@ -60,7 +56,7 @@ TEST(ShaderPlugin, BricksShowMortarAndBricksAndAreSeenInAMirror) {
   // Facing the wall (+z face): along a row, both the brick colour (red) and mortar (grey) appear.
   int brick = 0, mortar = 0;
   for (int i = 0; i < 200; ++i) {
-    const Vec3 c = radiance(**s, Vec3(-2.0f + 0.02f * float(i), 0.25f, 5), Vec3(0, 0, -1));
+    const Vec3 c = radiance_along(**s, Vec3(-2.0f + 0.02f * float(i), 0.25f, 5), Vec3(0, 0, -1));
     if (c.x > 1.8f * c.z) ++brick;
     else if (std::abs(c.x - c.z) < 0.2f * c.x) ++mortar;
   }
@@ -86,8 +82,8 @@ TEST(ShaderPlugin, BricksShowMortarAndBricksAndAreSeenInAMirror) {
   int seen = 0;
   for (int i = 0; i < 20; ++i) {
     const float y = -1.0f + 0.1f * float(i);
-    const Vec3 via_mirror = radiance(**m, Vec3(0.0f, y, 3.0f), Vec3(1, 0, -1));  // meets x = 2 at z = 1
-    const Vec3 direct = radiance(**m, Vec3(1.999f, y, 1.0f), Vec3(-1, 0, -1));
+    const Vec3 via_mirror = radiance_along(**m, Vec3(0.0f, y, 3.0f), Vec3(1, 0, -1));  // meets x = 2 at z = 1
+    const Vec3 direct = radiance_along(**m, Vec3(1.999f, y, 1.0f), Vec3(-1, 0, -1));
     EXPECT_LT(glm::length(via_mirror - direct), 1e-3f) << y;
     seen += max_component(direct) > 0.0f;
   }
@@ -97,13 +93,13 @@ TEST(ShaderPlugin, BricksShowMortarAndBricksAndAreSeenInAMirror) {
 TEST(ShaderPlugin, ToonOutlinesTheSilhouetteAndNanNeverReachesAPixel) {
   auto s = parse(R"("m":{"shader":"toon","params":{"outline":0.3}})", kSphere);
   ASSERT_TRUE(s) << s.error().message;
-  const Vec3 edge = radiance(**s, Vec3(0.0f, 0.99f, 10), Vec3(0, 0, -1));
-  const Vec3 middle = radiance(**s, Vec3(0.3f, 0.0f, 10), Vec3(0, 0, -1));
+  const Vec3 edge = radiance_along(**s, Vec3(0.0f, 0.99f, 10), Vec3(0, 0, -1));
+  const Vec3 middle = radiance_along(**s, Vec3(0.3f, 0.0f, 10), Vec3(0, 0, -1));
   EXPECT_LT(max_component(edge), 0.05f);
   EXPECT_GT(max_component(middle), 0.2f);
   auto n = parse(R"("m":{"shader":"broken_nan"})", kSphere);
   ASSERT_TRUE(n) << n.error().message;
-  const Vec3 c = radiance(**n, Vec3(0, 0, 10), Vec3(0, 0, -1));
+  const Vec3 c = radiance_along(**n, Vec3(0, 0, 10), Vec3(0, 0, -1));
   EXPECT_TRUE(is_finite(c));
   EXPECT_EQ(c, Vec3(0.0f, 1.0f, 0.0f));  // NaN -> 0, negative -> 0, the finite channel kept
   EXPECT_EQ((*n)->materials[0].kd, Vec3(0.5f));  // no albedo(): 0.5 grey for path tracing

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "core/scene/scene.h"
+#include "core/shading/shading.h"
 
 namespace frameless::testing {
 
@@ -24,6 +25,14 @@ inline void add_horizontal_quad(Geometry& g, float y, float h, uint16_t material
     add_quad(g, a, b, c, d, material);
   else
     add_quad(g, d, c, b, a, material);
+}
+
+// Whitted radiance along the ray from org towards dir (normalized here), a camera ray.
+inline Vec3 radiance_along(const Scene& s, const Vec3& org, const Vec3& dir) {
+  Ray r;
+  r.org = org;
+  r.dir = glm::normalize(dir);
+  return trace_radiance(s, r, 0, Vec3(1.0f), nullptr);
 }
 
 inline void add_sphere(Geometry& g, Vec3 center, float radius, uint16_t material) {

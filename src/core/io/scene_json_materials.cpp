@@ -204,20 +204,17 @@ Material parse_shader_material(const std::string& name, const json& j, const std
     const json& params = require_object(j["params"], f + ".params");
     for (auto it = params.begin(); it != params.end(); ++it) {
       const std::string pf = f + ".params." + it.key();
-      int count = 0;
-      const int at = shader_param_offset(sh, it.key(), count);
-      if (at < 0) {
+      int at = 0;
+      const fl_param* decl = find_shader_param(sh, it.key(), at);
+      if (!decl) {
         std::string declared;
         for (uint32_t i = 0; i < sh.param_count; ++i) declared += (i ? ", " : "") + std::string(sh.params[i].name);
         fail(pf, "unknown parameter of shader '" + std::string(sh.name) + "' (" +
                      (declared.empty() ? std::string("it declares none") : "it declares " + declared) + ")");
       }
-      const fl_param* decl = nullptr;
-      for (uint32_t i = 0; i < sh.param_count && !decl; ++i)
-        if (it.key() == sh.params[i].name) decl = &sh.params[i];
       char range[96];
       std::snprintf(range, sizeof range, "in [%g, %g]", double(decl->min), double(decl->max));
-      if (count == 1) {
+      if (decl->type == FL_PARAM_FLOAT) {
         bound.params[size_t(at)] = get_float(it.value(), pf, decl->min, decl->max, range);
       } else {
         if (!it.value().is_array() || it.value().size() != 3) fail(pf, "expected [r, g, b]");

@@ -7,13 +7,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
-#include <mutex>
 #include <set>
 
 namespace frameless {
 namespace {
 
-std::mutex g_mutex;  // loading only: never on the render path
+// The loading thread's own state (the command line sets the folders, scenes load shaders).
 std::vector<std::string> g_folders;
 std::map<std::string, LoadedShader> g_loaded;  // by file
 
@@ -52,17 +51,10 @@ std::string declaration_problem(const fl_shader* s) {
 
 }  // namespace
 
-void set_shader_search_path(std::vector<std::string> folders) {
-  std::lock_guard<std::mutex> lock(g_mutex);
-  g_folders = std::move(folders);
-}
+void set_shader_search_path(std::vector<std::string> folders) { g_folders = std::move(folders); }
 
 std::vector<std::string> shader_search_path(const std::string& scene_dir) {
-  std::vector<std::string> out;
-  {
-    std::lock_guard<std::mutex> lock(g_mutex);
-    out = g_folders;
-  }
+  std::vector<std::string> out = g_folders;
   if (const char* env = std::getenv("FRAMELESS_SHADER_PATH")) {
     std::string all = env;
     for (size_t at = 0; at <= all.size();) {
@@ -96,7 +88,6 @@ Result<LoadedShader> load_shader(const std::string& name, const std::string& sce
     return Error{"shader '" + name + "': no " + name + ".so or lib" + name + ".so in the shader path (" +
                  (where.empty() ? std::string("empty: use --shader-path or FRAMELESS_SHADER_PATH") : where) + ")"};
   }
-  std::lock_guard<std::mutex> lock(g_mutex);
   if (auto it = g_loaded.find(file); it != g_loaded.end()) return it->second;
   void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
@@ -118,16 +109,13 @@ Result<LoadedShader> load_shader(const std::string& name, const std::string& sce
   return out;
 }
 
-int shader_param_offset(const fl_shader& s, const std::string& name, int& count) {
-  int at = 0;
+const fl_param* find_shader_param(const fl_shader& s, const std::string& name, int& offset) {
+  offset = 0;
   for (uint32_t i = 0; i < s.param_count; ++i) {
-    if (name == s.params[i].name) {
-      count = int(s.params[i].type);
-      return at;
-    }
-    at += int(s.params[i].type);
+    if (name == s.params[i].name) return &s.params[i];
+    offset += int(s.params[i].type);
   }
-  return -1;
+  return nullptr;
 }
 
 std::vector<float> shader_defaults(const fl_shader& s) {

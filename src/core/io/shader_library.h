@@ -1,7 +1,8 @@
 // Plug-in shader libraries (issue 28; include/frameless/shader.h): where they are looked for,
 // loading each once (dlopen), and checking what they declare, so that a broken or mismatched
 // library is one line, not a crash. Loading happens on the loading thread; the libraries stay
-// loaded for the process (their code runs on the render threads).
+// loaded for the process (their code runs on the render threads). Loading thread only: the
+// search path and the loaded libraries are its own state.
 #pragma once
 #include <string>
 #include <vector>
@@ -26,9 +27,9 @@ struct LoadedShader {
 // declaration checked (interface version, a name, shade(), parameters well formed).
 Result<LoadedShader> load_shader(const std::string& name, const std::string& scene_dir);
 
-// Where a parameter's values sit in a material's parameter block; -1 when the shader declares
-// no parameter of that name.
-int shader_param_offset(const fl_shader& s, const std::string& name, int& count);
+// The declaration of parameter `name` and where its values sit in a material's parameter block
+// (`offset`); null when the shader declares no parameter of that name.
+const fl_param* find_shader_param(const fl_shader& s, const std::string& name, int& offset);
 // The block of default values, in declaration order.
 std::vector<float> shader_defaults(const fl_shader& s);
 

@@ -1,6 +1,7 @@
 // OpenVDB's value encoding (io/Compression.h of OpenVDB 10, file versions 222 and later).
 #include "core/io/vdb_values.h"
 
+#include <Imath/half.h>
 #include <blosc.h>
 #include <zlib.h>
 
@@ -14,32 +15,6 @@ static_assert(std::endian::native == std::endian::little,
               "OpenVDB files are read in the machine's byte order");
 
 [[noreturn]] void fail(const std::string& what) { throw VdbFailure{what}; }
-
-// IEEE 754 binary16 -> float (OpenVDB saves "half float" grids so).
-float half_to_float(uint16_t h) {
-  const uint32_t sign = uint32_t(h >> 15) << 31, exponent = (h >> 10) & 0x1f, mantissa = h & 0x3ff;
-  uint32_t bits;
-  if (exponent == 0) {
-    if (mantissa == 0) {
-      bits = sign;
-    } else {  // subnormal: normalise
-      int e = -1;
-      uint32_t m = mantissa;
-      do {
-        ++e;
-        m <<= 1;
-      } while (!(m & 0x400));
-      bits = sign | uint32_t(127 - 15 - e) << 23 | (m & 0x3ff) << 13;
-    }
-  } else if (exponent == 31) {
-    bits = sign | 0x7f800000u | mantissa << 13;  // inf or NaN (refused later)
-  } else {
-    bits = sign | (exponent + 127 - 15) << 23 | mantissa << 13;
-  }
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
-}
 
 size_t value_bytes(Stored s) { return s == Stored::kHalf ? 2 : s == Stored::kDouble ? 8 : 4; }
 
@@ -140,7 +115,7 @@ void read_values(Cursor& c, uint32_t compression, Stored stored, Stored full, fl
     if (stored == Stored::kHalf) {
       uint16_t h;
       std::memcpy(&h, p, 2);
-      return half_to_float(h);
+      return imath_half_to_float(h);  // Imath (OpenEXR's): IEEE binary16
     }
     if (stored == Stored::kDouble) {
       double d;

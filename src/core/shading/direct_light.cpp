@@ -26,8 +26,8 @@ MaterialParams material_at(const Scene& scene, const DynamicFrame* frame, const 
 
 namespace {
 
-// The share of a light sample's light that reaches origin: 0 when something blocks it, else what
-// the volume shader's volumes let through (1 without them).
+// The share of a light sample's light that reaches origin, per channel: 0 when something blocks
+// it, else what the volume shader's volumes let through (1 without them).
 Vec3 visible(const DirectLight& st, const Vec3& origin, const LightSample& ls) {
   Ray r;
   r.org = origin;
@@ -62,8 +62,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       contrib = (fs * w + fl) * ls.radiance * (c / ls.pdf);
     }
     if (absorbing) contrib *= beer(extinction, ls.tmax);
-    if (max_component(contrib) > 0.0f)
-      if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += contrib * v;
+    if (max_component(contrib) > 0.0f) sum += contrib * visible(st, origin, ls);
   }
   if (!smooth || st.strategy == LightStrategy::kBsdfOnly) return sum;
   if (!st.scene.emitters.empty()) {
@@ -75,7 +74,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
       if (c > 0.0f && max_component(f) > 0.0f) {
         const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
         const Vec3 t = absorbing ? beer(extinction, ls.tmax) : Vec3(1.0f);
-        if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
+        sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
       }
     }
   }
@@ -90,7 +89,7 @@ Vec3 direct_light(DirectLight& st, const PathSurface& s, const Vec3& origin, con
     if (max_component(f) > 0.0f) {
       const float w = light_weight(st.strategy, ls.pdf, path_pdf(s, ls.wi));
       const Vec3 t = absorbing ? beer(extinction, kInfinity) : Vec3(1.0f);
-      if (const Vec3 v = visible(st, origin, ls); max_component(v) > 0.0f) sum += t * f * ls.radiance * (w * c / ls.pdf) * v;
+      sum += t * f * ls.radiance * (w * c / ls.pdf) * visible(st, origin, ls);
     }
   }
   return sum;

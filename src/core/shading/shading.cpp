@@ -268,29 +268,6 @@ Vec3 shade_polished(const ShadeContext& c, const Ray& ray, const MaterialParams&
   return out;
 }
 
-template <uint32_t F>
-Vec3 shade_material(const ShadeContext& c, const Ray& ray, const MaterialParams& m,
-                    const SurfacePoint& sp, int depth, const Vec3& weight,
-                    const MaterialParams* medium) {
-  switch (m.cls) {
-    case MaterialClass::kDiffuse:
-      return shade_diffuse<F>(c, m, sp);
-    case MaterialClass::kMetal:
-      return shade_metal<F>(c, ray, m, sp, depth, weight, medium);
-    case MaterialClass::kDielectric:
-      // Without the refraction bit the scene has no dielectric: this case cannot occur.
-      if constexpr ((F & kShadeRefraction) != 0)
-        return shade_dielectric<F>(c, ray, m, sp, depth, weight, medium);
-      else
-        return Vec3(0.0f);
-    case MaterialClass::kPolished:
-      return shade_polished<F>(c, ray, m, sp, depth, weight, medium);
-    case MaterialClass::kShader:  // shaded in shade_surface_path (it needs the hit)
-      return Vec3(0.0f);
-  }
-  return Vec3(0.0f);
-}
-
 // A plug-in shader's host (include/frameless/shader.h): its calls come back into this sample.
 template <uint32_t F>
 struct PluginHost {
@@ -345,6 +322,29 @@ Vec3 shade_plugin(const ShadeContext& c, const Ray& ray, const Hit& hit, const M
   return r;
 }
 
+template <uint32_t F>
+Vec3 shade_material(const ShadeContext& c, const Ray& ray, const Hit& hit, const MaterialParams& m,
+                    const SurfacePoint& sp, int depth, const Vec3& weight,
+                    const MaterialParams* medium) {
+  switch (m.cls) {
+    case MaterialClass::kDiffuse:
+      return shade_diffuse<F>(c, m, sp);
+    case MaterialClass::kMetal:
+      return shade_metal<F>(c, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kDielectric:
+      // Without the refraction bit the scene has no dielectric: this case cannot occur.
+      if constexpr ((F & kShadeRefraction) != 0)
+        return shade_dielectric<F>(c, ray, m, sp, depth, weight, medium);
+      else
+        return Vec3(0.0f);
+    case MaterialClass::kPolished:
+      return shade_polished<F>(c, ray, m, sp, depth, weight, medium);
+    case MaterialClass::kShader:
+      return shade_plugin<F>(c, ray, hit, m, sp, depth, weight, medium);
+  }
+  return Vec3(0.0f);
+}
+
 // Adds what the surface emits; scenes without emitters skip even the add (and keep their bits).
 inline Vec3 emitted(const ShadeContext& c, const MaterialParams& m, const Vec3& reflected) {
   return c.scene.features.has_emission ? reflected + m.emission : reflected;
@@ -355,19 +355,17 @@ Vec3 shade_surface_path(const ShadeContext& c, const Ray& ray, const Hit& hit,
                         const SurfacePoint& sp, int depth, const Vec3& weight,
                         const MaterialParams* medium) {
   const MaterialParams& base = frame_material(c.scene, c.frame, sp.material);
-  if (base.cls == MaterialClass::kShader)
-    return emitted(c, base, shade_plugin<F>(c, ray, hit, base, sp, depth, weight, medium));
   // Untextured materials are shaded in place: no texture coordinate is ever computed for them.
   // Dynamic objects have no texture coordinates either (their frame moves per sample).
   if (!base.textured() || is_dynamic_prim(hit.prim) || is_volume_prim(hit.prim))
-    return emitted(c, base, shade_material<F>(c, ray, base, sp, depth, weight, medium));
+    return emitted(c, base, shade_material<F>(c, ray, hit, base, sp, depth, weight, medium));
   MaterialParams m = base;
   SurfacePoint tsp = sp;
   if (hit.inst != kInvalidId)
     apply_instance_textures(c.scene, *c.scene.accel.top_in_use(frame_instances(c.frame)), ray, hit, m, tsp);
   else
     apply_textures(c.scene, ray, hit, m, tsp);
-  return emitted(c, m, shade_material<F>(c, ray, m, tsp, depth, weight, medium));
+  return emitted(c, m, shade_material<F>(c, ray, hit, m, tsp, depth, weight, medium));
 }
 
 template <uint32_t F>

@@ -429,7 +429,7 @@ Vec3 beam_visibility(const Scene& scene, const ShadowQuery& q, const DynamicFram
   // Four directions, each standing for a quarter of the cone's disc: at sqrt(1/2) of its radius
   // (the circle splitting the disc's area in halves), at 45, 135, 225 and 315 degrees.
   const ShadingFrame axes = make_shading_frame(q.dir);
-  const float t = std::tan(q.half_angle) * 0.70710678f * 0.70710678f;
+  const float t = 0.5f * q.tan_half;  // each coordinate: sqrt(1/2) of sqrt(1/2) of the radius
   const Vec2 pattern[4] = {Vec2(t, t), Vec2(-t, t), Vec2(-t, -t), Vec2(t, -t)};
   Ray rays[4];
   for (int k = 0; k < 4; ++k) {

@@ -78,8 +78,15 @@ Result<std::shared_ptr<const VolumeGrid>> make_volume_grid(
 // The size check alone, before anything is allocated or read: "" when fine, else what is wrong.
 std::string volume_size_problem(int64_t nx, int64_t ny, int64_t nz, VoxelType type);
 
-// Reading voxels of a dense grid as their own type T: v(x, y, z), and a cell's eight corners
-// (voxel (x + i, y + j, z + k) at c[i + 2j + 4k]).
+// The eight voxels of the cell whose first voxel is at p, in storage with strides sy and sz:
+// voxel (x + i, y + j, z + k) at c[i + 2j + 4k].
+template <class R, class T>
+inline void load_corners(const T* p, size_t sy, size_t sz, R (&c)[8]) {
+  c[0] = R(p[0]), c[1] = R(p[1]), c[2] = R(p[sy]), c[3] = R(p[sy + 1]);
+  c[4] = R(p[sz]), c[5] = R(p[sz + 1]), c[6] = R(p[sz + sy]), c[7] = R(p[sz + sy + 1]);
+}
+
+// Reading voxels of a dense grid as their own type T: v(x, y, z), and a cell's eight corners.
 template <class T>
 struct DenseVoxels {
   const T* v;
@@ -88,9 +95,7 @@ struct DenseVoxels {
   float operator()(int x, int y, int z) const { return float(v[index(x, y, z)]); }
   template <class R>
   void corners(int x, int y, int z, R (&c)[8]) const {
-    const T* p = v + index(x, y, z);
-    c[0] = R(p[0]), c[1] = R(p[1]), c[2] = R(p[sy]), c[3] = R(p[sy + 1]);
-    c[4] = R(p[sz]), c[5] = R(p[sz + 1]), c[6] = R(p[sz + sy]), c[7] = R(p[sz + sy + 1]);
+    load_corners(v + index(x, y, z), sy, sz, c);
   }
 };
 
@@ -106,10 +111,7 @@ struct BrickedVoxels {
   float operator()(int x, int y, int z) const { return *at(x, y, z); }
   template <class R>
   void corners(int x, int y, int z, R (&c)[8]) const {
-    constexpr int sy = kBrickSide, sz = kBrickSide * kBrickSide;
-    const float* q = at(x, y, z);
-    c[0] = R(q[0]), c[1] = R(q[1]), c[2] = R(q[sy]), c[3] = R(q[sy + 1]);
-    c[4] = R(q[sz]), c[5] = R(q[sz + 1]), c[6] = R(q[sz + sy]), c[7] = R(q[sz + sy + 1]);
+    load_corners(at(x, y, z), size_t(kBrickSide), size_t(kBrickSide * kBrickSide), c);
   }
 };
 

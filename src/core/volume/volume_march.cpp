@@ -48,10 +48,10 @@ uint32_t walk_samples(const MarchSetup& s, const Vec3& org, const Vec3& dir, flo
         // Nearly transparent: one sample, at their middle, for the stretches that end in the box.
         const int64_t group = in_box ? std::min<int64_t>(kThinStretches, int64_t(std::floor((std::min(e1, b) - t0) / dt)) - k) : 1;
         if (group >= 2) {
-          const float glo = std::max(a, t0 + float(k) * dt), ghi = std::min(b, t0 + float(k + group) * dt);
+          const float group_hi = std::min(b, t0 + float(k + group) * dt);
           const Vec3 q = glm::clamp(org + (t0 + (float(k) + 0.5f * float(group)) * dt) * dir, Vec3(0.0f), top);
           ++taken;
-          if (!visit(q, (ghi - glo) / dt)) break;
+          if (!visit(q, (group_hi - lo) / dt)) break;
           k += group - 1;
           continue;
         }

@@ -1,6 +1,7 @@
 // Writes the OpenVDB fixtures of tests/readers/volume_vdb_test.cpp with OpenVDB itself, so the
 // reader is tested against files the reference library wrote. Not part of the build (it needs
-// Debian's libopenvdb-dev, libboost-dev and libboost-iostreams-dev); run it by hand:
+// Debian's libopenvdb-dev, libboost-dev and libboost-iostreams-dev: tools/install-deps.sh
+// --fixtures installs them); run it by hand:
 //   g++ -std=c++17 -O1 tests/data/volumes/make_vdb_fixtures.cpp -o /tmp/make_vdb_fixtures \
 //       -lopenvdb -ltbb -lImath-3_1 && /tmp/make_vdb_fixtures tests/data/volumes
 #include <openvdb/openvdb.h>
