@@ -16,6 +16,7 @@ using bench::quiet_rank;
 using bench::report_error;
 using bench::ShadowOptions;
 using bench::show_progress;
+using bench::thread_parallel_for;
 using bench::valid_threads;
 
 // --eye/--look/--up x,y,z and --fov DEG into `camera`.

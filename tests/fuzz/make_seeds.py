@@ -15,7 +15,9 @@ instancing scene (scene_instances: selector 0, a JSON scene with "meshes" and "i
 were written once by hand from those formats, as were the volume seeds (volume_nrrd_raw,
 volume_nrrd_gzip: selector 11 and an attached NRRD file; volume_raw_u16: selector 12, the 16-byte
 header and 48 bytes of voxels; scene_volumes: selector 0, a JSON scene with all three volume modes;
-volume_vdb_*: selector 13, then a fixture of tests/data/volumes written by OpenVDB 10).
+volume_vdb_*: selector 13, then a fixture of tests/data/volumes written by OpenVDB 10), and the
+lightfield seed (lightfield_slab: selector 14, then `frameless bake-lightfield default --uv 2x2
+--st 4x4 --spp 1`'s file).
 """
 import base64
 import json

@@ -1,5 +1,5 @@
 // libFuzzer target for every parser of scene input. The first byte picks the parser (its value
-// modulo 14), the rest is that parser's input:
+// modulo 15), the rest is that parser's input:
 //   0  JSON scene, base folder /nonexistent ("mesh" and "textures" files are missing)
 //   1  OBJ (parse_obj)
 //   2  PLY (parse_ply)
@@ -24,6 +24,8 @@
 //      a grid that loads must hold exactly its voxels and a sane value range
 //  13  OpenVDB file (decode_vdb, the first float or double grid); a grid that loads must be
 //      bricked with every table entry naming a stored brick, and a sane value range
+//  14  lightfield file (decode_lightfield); a table that loads must pass check_lightfield and be
+//      looked up (finite, alpha in [0, 1]) through its slab
 // Every call must return a value or a one-line, non-empty error; an error message that is empty
 // or holds a newline traps (__builtin_trap), as does a returned value that breaks its documented
 // invariants (mesh indices, per-vertex arrays, material and texture slots, image sizes, finite
@@ -48,6 +50,7 @@
 #include <system_error>
 
 #include "cluster/wire.h"
+#include "core/io/lightfield_file.h"
 #include "core/io/patch_io.h"
 #include "core/io/sphere_file.h"
 #include "core/io/volume_nrrd.h"
@@ -370,10 +373,21 @@ void run_vdb(const Result<VdbVolume>& r) {
     if (m.lo[i] < g.min_value || m.hi[i] > g.max_value) broken("macrocell outside the range", std::to_string(i));
 }
 
+void run_lightfield(const Result<std::shared_ptr<const LightField>>& r) {
+  if (!r) return check_error(r.error());
+  const LightField& lf = **r;
+  if (!check_lightfield(lf).empty()) broken("lightfield", check_lightfield(lf));
+  for (int k = 0; k < 64; ++k) {
+    const float a = float(k % 8) / 3.5f - 1.0f, b = float(k / 8) / 3.5f - 1.0f;
+    const Vec4Color c = lf.lookup(a, b, -b, a);
+    if (!is_finite(c.rgb) || !(c.alpha >= 0.0f && c.alpha <= 1.0f + 1e-6f)) broken("lightfield lookup", std::to_string(k));
+  }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
   const std::string input(reinterpret_cast<const char*>(data + 1), size - 1);
-  switch (data[0] % 14) {
+  switch (data[0] % 15) {
     case 0:
       run_scene(parse_scene_json(input, "fuzz.json", "/nonexistent"));
       break;
@@ -450,6 +464,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     case 13:
       run_vdb(decode_vdb(reinterpret_cast<const uint8_t*>(input.data()), input.size(), "fuzz.vdb", ""));
+      break;
+    case 14:
+      run_lightfield(decode_lightfield(input, "fuzz.exr"));
       break;
   }
   return 0;

@@ -25,6 +25,7 @@
 #include <ImfIO.h>
 #include <ImfInputFile.h>
 
+#include "core/io/exr_stream.h"
 #include "core/io/file_util.h"
 #include "core/io/image_rgbe.h"
 
@@ -272,29 +273,11 @@ Result<std::shared_ptr<const Image>> decode_jpeg(const std::string& bytes,
 
 // ---- OpenEXR (C++ API over the bytes in memory) ----
 
-class MemoryStream : public Imf::IStream {
- public:
-  MemoryStream(const std::string& bytes, const std::string& path)
-      : Imf::IStream(path.c_str()), bytes_(bytes) {}
-  bool read(char c[], int n) override {
-    if (n < 0 || uint64_t(n) > bytes_.size() - pos_) throw Iex::InputExc("file is truncated");
-    std::memcpy(c, bytes_.data() + pos_, size_t(n));
-    pos_ += uint64_t(n);
-    return pos_ < bytes_.size();
-  }
-  uint64_t tellg() override { return pos_; }
-  void seekg(uint64_t pos) override { pos_ = std::min<uint64_t>(pos, bytes_.size()); }
-
- private:
-  const std::string& bytes_;
-  uint64_t pos_ = 0;
-};
-
 Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const std::string& path) {
   auto image = std::make_shared<Image>();
   image->path = path;
   try {
-    MemoryStream stream(bytes, path);
+    ExrMemoryStream stream(bytes, path);
     // Header first, alone: the size check must come before InputFile sizes its tables.
     Imf::Header header;
     int version = int(read_le32(bytes, 4));

@@ -15,6 +15,7 @@
 #include "core/io/scene_json_materials.h"
 #include "core/io/scene_json_motion.h"
 #include "core/io/scene_json_patches.h"
+#include "core/io/scene_json_lightfield.h"
 #include "core/io/scene_json_volume.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
@@ -334,17 +335,16 @@ void parse_object(const json& o, const std::string& f, Context& ctx) {
     const auto it = ctx.shared.find(name);
     if (it == ctx.shared.end()) fail(f + ".mesh", "no mesh '" + name + "' under \"meshes\"");
     const glm::mat4 m = o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
-    Affine a;
-    a.m = glm::mat3(m);
-    a.t = Vec3(m[3]);
+    const Affine a = to_affine(m);
     Instance inst;
     if (!make_instance(it->second, a, inst)) fail(f + ".transform", "singular or non-finite transform");
     if (o.contains("motion"))  // moved by the application side, which publishes a refit top level
       parse_instance_motion(o["motion"], f + ".motion", s, uint32_t(s.geometry.instances.size()));
     s.geometry.instances.push_back(inst);
+  } else if (type == "lightfield") {
+    parse_lightfield(o, f, s, ctx.base_dir);
   } else {
-    fail(f + ".type", "unknown object type '" + type +
-                          "' (sphere, mesh, triangles, bezier, plane, box, instance or volume)");
+    fail(f + ".type", "unknown object type '" + type + "' (sphere, mesh, triangles, bezier, plane, box, instance, volume or lightfield)");
   }
 }
 
@@ -420,10 +420,8 @@ void parse_scene(const json& root, Context& ctx) {
     lo = glm::min(lo, d.sphere.center - Vec3(d.sphere.radius));
     hi = glm::max(hi, d.sphere.center + Vec3(d.sphere.radius));
   }
-  for (const VolumeObject& v : s.volumes) {  // and on volumes
-    lo = glm::min(lo, v.lo);
-    hi = glm::max(hi, v.hi);
-  }
+  for (const VolumeObject& v : s.volumes) lo = glm::min(lo, v.lo), hi = glm::max(hi, v.hi);  // and on volumes
+  for (const LightfieldObject& l : s.lightfields) lo = glm::min(lo, l.lo), hi = glm::max(hi, l.hi);  // lightfields
   if (!is_finite(lo) || !is_finite(hi)) fail("objects", "geometry extends beyond finite coordinates");
   if (root.contains("camera")) {
     parse_camera(root["camera"], s);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/base/types.h"
+#include "core/geometry/geometry.h"
 
 namespace frameless::scene_json {
 
@@ -110,5 +111,6 @@ inline bool get_bool(const json& j, const std::string& field) {
 
 // An affine transform: 16 numbers row-major, or {translate, rotate, scale} (M = T R S).
 glm::mat4 parse_transform(const json& j, const std::string& f);
+inline Affine to_affine(const glm::mat4& m) { return Affine{glm::mat3(m), Vec3(m[3])}; }
 
 }  // namespace frameless::scene_json

@@ -178,9 +178,7 @@ void parse_volume(const json& o, const std::string& f, Scene& s, const std::stri
   }
   const glm::mat4 m =
       o.contains("transform") ? parse_transform(o["transform"], f + ".transform") : glm::mat4(1.0f);
-  Affine a;
-  a.m = glm::mat3(m);
-  a.t = Vec3(m[3]);
+  Affine a = to_affine(m);
   if (!(std::abs(glm::determinant(a.m)) > 1e-12f)) fail(f + ".transform", "is singular");
   if (from.vdb)
     a = Affine{a.m * from.native.m, a.point(from.native.t)};  // the file's map, then the object's

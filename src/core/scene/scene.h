@@ -11,6 +11,7 @@
 #include "core/scene/emitters.h"
 #include "core/scene/environment.h"
 #include "core/scene/light.h"
+#include "core/scene/lightfield.h"
 #include "core/scene/material.h"
 #include "core/scene/shader_material.h"
 #include "core/scene/volume_object.h"
@@ -106,6 +107,9 @@ struct Scene {
   // ray like the moving objects; the volume shader's and MIP's are composited along rays.
   std::vector<VolumeObject> volumes;
   bool see_through_volumes = false;  // some volume is not an isosurface (finalize_scene sets it)
+  // Lightfield objects (core/scene/lightfield.h): composited along rays like the volume shader's.
+  std::vector<LightfieldObject> lightfields;
+  bool see_through = false;  // see-through volumes or lightfields (finalize_scene sets it)
   // Objects that move (seed section 4): outside `accel`, tested per ray (core/scene/dynamic.h).
   std::vector<DynamicObject> dynamic;
   // Instances that move (JSON "motion" on an instance): offsets from their declared placement,

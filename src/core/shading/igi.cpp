@@ -113,7 +113,7 @@ Vec3 trace_igi(const Scene& scene, const Ray& camera_ray, float px, float py, ui
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
     // The volume shader's light on the way, and its shade on what follows.
-    if (scene.see_through_volumes && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
+    if (scene.see_through && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
     if (!found) {  // seen from the camera or through mirrors and glass
       radiance += beta * beer(extinction, kInfinity) *
                   escaped_radiance(scene.environment.get(), scene.settings.background, ray.dir);

@@ -43,7 +43,7 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     const bool found = scene_intersect(scene, frame, ray, bounce == 0 ? known_hit : nullptr, hit);
     if (bounce == 0 && first_hit) *first_hit = hit;
     // The volume shader's light on the way, and its shade on what follows.
-    if (scene.see_through_volumes && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
+    if (scene.see_through && !through_volumes(scene, frame, ray, found ? hit.t : kInfinity, radiance, beta)) break;
     // Parker's lights with an extent, reached by a BSDF-sampled ray before any surface.
     if (smooth_bounce && st.extended_lights && st.strategy != LightStrategy::kLightOnly) {
       for (const Light& light : frame_lights(scene, frame)) {

@@ -1,6 +1,7 @@
 // Lighting volume-shader samples, and the volumes' share of a ray's and a shadow ray's light.
 #include "core/shading/volume_lighting.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/geometry/shading_frame.h"
@@ -19,17 +20,59 @@ Vec3 ParkerVolumeLighting::light(const Vec3& p, const Vec3& n) const {
   return sum;
 }
 
-Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, const Vec3& behind) {
-  if (!scene.see_through_volumes) return behind;
+namespace {
+
+// The see-through part of [tmin, t_end]: volume-shader and MIP volumes, and lightfields composited
+// in front-to-back order of their boxes' entries (the volumes between them split at each entry).
+VolumeSegment see_through_along(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end) {
   const ParkerVolumeLighting lighting(scene, frame);
-  const VolumeSegment seg = volumes_along(scene, ray, t_end, &lighting);
+  if (scene.lightfields.empty()) return volumes_along(scene, ray, t_end, &lighting);
+  constexpr int kMaxLayers = 8;  // nearest first; a ray behind eight lightfields sees no more
+  LightfieldHit layers[kMaxLayers];
+  int n = 0;
+  for (const LightfieldObject& o : scene.lightfields) {
+    LightfieldHit h;
+    if (!lightfield_along(o, ray, t_end, h)) continue;
+    int k = std::min(n, kMaxLayers - 1);
+    if (n == kMaxLayers && h.t >= layers[k].t) continue;
+    for (; k > 0 && layers[k - 1].t > h.t; --k) layers[k] = layers[k - 1];
+    layers[k] = h;
+    n = std::min(n + 1, kMaxLayers);
+  }
+  VolumeSegment total;
+  Ray part = ray;
+  const auto add = [&total](const Vec3& color, float transmittance) {
+    total.color += total.transmittance * color;
+    total.transmittance *= transmittance;
+  };
+  for (int k = 0; k < n; ++k) {
+    if (scene.see_through_volumes) {
+      const VolumeSegment v = volumes_along(scene, part, layers[k].t, &lighting);
+      add(v.color, v.transmittance);
+      total.samples += v.samples;
+    }
+    add(layers[k].color.rgb, 1.0f - std::min(layers[k].color.alpha, 1.0f));
+    part.tmin = layers[k].t;
+  }
+  if (scene.see_through_volumes) {
+    const VolumeSegment v = volumes_along(scene, part, t_end, &lighting);
+    add(v.color, v.transmittance);
+    total.samples += v.samples;
+  }
+  return total;
+}
+
+}  // namespace
+
+Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, const Vec3& behind) {
+  if (!scene.see_through) return behind;
+  const VolumeSegment seg = see_through_along(scene, frame, ray, t_end);
   return seg.color + seg.transmittance * behind;
 }
 
 bool through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, Vec3& radiance,
                      Vec3& beta) {
-  const ParkerVolumeLighting lighting(scene, frame);
-  const VolumeSegment seg = volumes_along(scene, ray, t_end, &lighting);
+  const VolumeSegment seg = see_through_along(scene, frame, ray, t_end);
   radiance += beta * seg.color;
   beta *= seg.transmittance;
   return max_component(beta) > 0.0f;
