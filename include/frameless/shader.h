@@ -28,6 +28,10 @@ typedef struct fl_vec3 {
   float x, y, z;
 } fl_vec3;
 
+typedef struct fl_vec4 {
+  float x, y, z, w;
+} fl_vec4;
+
 /* What the shader receives for one ray hit. Vectors are in world space and unit length. */
 typedef struct fl_hit {
   fl_vec3 position;
@@ -37,6 +41,11 @@ typedef struct fl_hit {
   float u, v;               /* texture coordinates where the primitive has them, else 0 */
   int front_face;           /* 1: the ray hit the outward side */
   int depth;                /* 0 for camera rays, +1 per reflection or refraction */
+  /* A frame around shading_normal: tangent along increasing u where the primitive has texture
+   * coordinates (else any), bitangent = cross(shading_normal, tangent) flipped where the uv
+   * layout is mirrored. Both unit and perpendicular to shading_normal. */
+  fl_vec3 tangent;
+  fl_vec3 bitangent;
 } fl_hit;
 
 /* What the shader may call, always through the host it is given (ctx is the host's own). */
@@ -56,14 +65,24 @@ typedef struct fl_host {
   fl_vec3 (*trace)(void* ctx, fl_vec3 direction, fl_vec3 weight);
   /* A uniform random number in [0, 1) from the sample's own stream. */
   float (*random)(void* ctx);
+  /* Perlin's improved noise (2002) at p, in [-1, 1], and turbulence: the sum over octaves of
+   * |noise(2^k p)| / 2^k (the solid textures' building blocks; pure functions). */
+  float (*noise)(fl_vec3 p);
+  float (*turbulence)(fl_vec3 p, int octaves);
+  /* The texture a FL_PARAM_TEXTURE parameter names (pass its value as `slot`), looked up at
+   * texture coordinates (u, v) or, for the scene's solid textures, at point p: linear RGBA
+   * (w = 1 where the image has no alpha). A parameter naming no texture gives (0, 0, 0, 0). */
+  fl_vec4 (*texture)(void* ctx, float slot, float u, float v, fl_vec3 p);
 } fl_host;
 
 typedef enum fl_param_type {
-  FL_PARAM_FLOAT = 1, /* one number */
-  FL_PARAM_COLOR = 3  /* three numbers, [r, g, b] in the scene */
+  FL_PARAM_FLOAT = 1,  /* one number */
+  FL_PARAM_COLOR = 3,  /* three numbers, [r, g, b] in the scene */
+  FL_PARAM_TEXTURE = 4 /* the name of one of the scene's "textures" (or none): one slot value */
 } fl_param_type;
 
-/* One declared parameter: values in [min, max] (each component of a colour). */
+/* One declared parameter: values in [min, max] (each component of a colour; ignored for
+ * textures). */
 typedef struct fl_param {
   const char* name;
   fl_param_type type;
@@ -72,6 +91,13 @@ typedef struct fl_param {
   const char* help;
 } fl_param;
 
+/* One sampled direction of a shader's BSDF (path tracing). */
+typedef struct fl_bsdf_sample {
+  fl_vec3 wi;     /* unit, world space, towards where the light comes from */
+  fl_vec3 weight; /* f(wo, wi) |n . wi| / pdf: what the path's throughput is multiplied by */
+  float pdf;      /* density per solid angle; 0 for a delta choice (a mirror direction) */
+} fl_bsdf_sample;
+
 typedef struct fl_shader {
   uint32_t api_version; /* FRAMELESS_SHADER_API_VERSION */
   const char* name;
@@ -79,12 +105,24 @@ typedef struct fl_shader {
   const fl_param* params;
   uint32_t param_count;
   /* Whitted-style shading (Parker's model): the radiance leaving the hit towards the viewer.
-   * params holds the material's values in declaration order (1 float per FL_PARAM_FLOAT, 3 per
-   * FL_PARAM_COLOR). Required. */
+   * params holds the material's values in declaration order (1 float per FL_PARAM_FLOAT and
+   * FL_PARAM_TEXTURE, 3 per FL_PARAM_COLOR). Required. */
   fl_vec3 (*shade)(const fl_host* host, const fl_hit* hit, const float* params);
   /* Path tracing and instant global illumination treat the surface as Lambertian with this
-   * albedo (each component in [0, 1]), evaluated once per material at load; NULL: 0.5 grey. */
+   * albedo (each component in [0, 1]) unless the shader has eval and sample below; evaluated
+   * once per material at load; NULL: 0.5 grey. */
   fl_vec3 (*albedo)(const float* params);
+  /* Path tracing's BSDF, optional (both or neither; without them path tracing reads the surface
+   * as Lambertian with albedo(), and instant global illumination always does). wo is the unit
+   * direction towards where the light goes (the previous vertex), wi towards where it comes
+   * from, both in world space. eval returns f(wo, wi) without the cosine and sets *pdf to the
+   * density with which sample produces wi (0 where it never does); sample draws wi from two
+   * uniform numbers and returns 0 when the path ends there. Directions below the geometric
+   * surface are refused by frameless. Here the host's noise, turbulence and texture work;
+   * for_each_light visits nothing, ambient and trace return 0, random returns 0. */
+  fl_vec3 (*eval)(const fl_host* host, const fl_hit* hit, const float* params, fl_vec3 wo, fl_vec3 wi, float* pdf);
+  int (*sample)(const fl_host* host, const fl_hit* hit, const float* params, fl_vec3 wo, float u1, float u2,
+                fl_bsdf_sample* out);
 } fl_shader;
 
 /* The one symbol a shader library exports. */

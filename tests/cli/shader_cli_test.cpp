@@ -62,11 +62,11 @@ TEST(ShaderCli, TheTutorialShaderCompilesAndRenders) {
 TEST(ShaderCli, AMissingShaderIsOneLineAndNoOutput) {
   const auto dir = fresh_dir("shader_cli_missing");
   std::ofstream(dir / "s.json") << R"({"camera": {"eye": [0, 1, 4], "look": [0, 0, 0]},
-    "materials": {"s": {"shader": "marble"}},
+    "materials": {"s": {"shader": "granite"}},
     "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "s"}]})";
   const CommandResult r = run_frameless("render " + (dir / "s.json").string() + " --size 16x16 --out " + (dir / "r.exr").string());
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("materials.s.shader: shader 'marble': no marble.so"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("materials.s.shader: shader 'granite': no granite.so"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "r.exr"));
 }
 

@@ -130,7 +130,7 @@ TEST(ShaderPlugin, BadShadersAndParametersAreOneLine) {
     std::string material, says;
   };
   const std::vector<Case> cases = {
-      {R"({"shader":"marble"})", "materials.m.shader: shader 'marble': no marble.so or libmarble.so in the shader path ("},
+      {R"({"shader":"granite"})", "materials.m.shader: shader 'granite': no granite.so or libgranite.so in the shader path ("},
       {R"({"shader":"../etc/passwd"})", "a name is letters, digits"},
       {R"({"shader":"broken_version"})", "built for shader interface version 99, frameless has version 1"},
       {R"({"shader":"broken_params"})", "parameter 'k' has a bad range"},
@@ -139,6 +139,8 @@ TEST(ShaderPlugin, BadShadersAndParametersAreOneLine) {
       {R"({"shader":"gooch","params":{"shine":3}})", "materials.m.params.shine: unknown parameter of shader 'gooch' (it declares kd, blue, yellow, alpha, beta, shininess)"},
       {R"({"shader":"gooch","params":{"blue":2}})", "materials.m.params.blue"},
       {R"({"shader":"gooch","class":"diffuse"})", "class"},
+      {R"({"shader":"broken_half_bsdf"})", "only one of eval() and sample()"},
+      {R"({"shader":"marble","params":{"tint":"nope"}})", "materials.m.params.tint: unknown texture 'nope'"},
   };
   for (const Case& c : cases) {
     auto s = parse(R"("m":)" + c.material, kSphere);

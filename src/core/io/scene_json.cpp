@@ -397,7 +397,7 @@ void parse_scene(const json& root, Context& ctx) {
     for (auto it = mats.begin(); it != mats.end(); ++it) {
       const std::string f = "materials." + it.key();
       const bool shaded = it.value().is_object() && it.value().contains("shader");
-      ctx.materials[it.key()] = add_material(s, shaded ? parse_shader_material(it.key(), it.value(), f, s, ctx.base_dir)
+      ctx.materials[it.key()] = add_material(s, shaded ? parse_shader_material(it.key(), it.value(), f, s, ctx.base_dir, ctx.textures)
                                                        : parse_material(it.key(), it.value(), f, ctx.textures, s));
     }
   }

@@ -193,7 +193,7 @@ Material parse_material(const std::string& name, const json& j, const std::strin
 
 
 Material parse_shader_material(const std::string& name, const json& j, const std::string& f, Scene& scene,
-                               const std::string& base_dir) {
+                               const std::string& base_dir, const TextureNames& textures) {
   require_object(j, f);
   check_keys(j, f, {"shader", "params", "emission"});
   auto loaded = load_shader(get_string(j["shader"], f + ".shader"), base_dir);
@@ -214,7 +214,9 @@ Material parse_shader_material(const std::string& name, const json& j, const std
       }
       char range[96];
       std::snprintf(range, sizeof range, "in [%g, %g]", double(decl->min), double(decl->max));
-      if (decl->type == FL_PARAM_FLOAT) {
+      if (decl->type == FL_PARAM_TEXTURE) {  // a name from "textures", its slot
+        bound.params[size_t(at)] = float(texture_ref(it.value(), pf, textures));
+      } else if (decl->type == FL_PARAM_FLOAT) {
         bound.params[size_t(at)] = get_float(it.value(), pf, decl->min, decl->max, range);
       } else {
         if (!it.value().is_array() || it.value().size() != 3) fail(pf, "expected [r, g, b]");

@@ -23,8 +23,8 @@ Material parse_material(const std::string& name, const json& j, const std::strin
 
 // One entry of "materials" that names a plug-in shader ({"shader": NAME, "params": {...}}): the
 // library loaded from the search path (core/io/shader_library.h) and the parameters checked by
-// its declaration; adds the binding to scene.shaders.
+// its declaration (texture parameters name entries of `textures`); adds the binding to scene.shaders.
 Material parse_shader_material(const std::string& name, const json& j, const std::string& f, Scene& scene,
-                               const std::string& base_dir);
+                               const std::string& base_dir, const TextureNames& textures);
 
 }  // namespace frameless::scene_json

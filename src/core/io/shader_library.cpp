@@ -31,6 +31,7 @@ std::string declaration_problem(const fl_shader* s) {
            std::to_string(FRAMELESS_SHADER_API_VERSION) + " (rebuild it against this include/frameless/shader.h)";
   if (!s->name || !plain_name(s->name, 64)) return "it declares no valid name";
   if (!s->shade) return "it declares no shade() function";
+  if (!s->eval != !s->sample) return "it declares only one of eval() and sample() (a BSDF needs both)";
   if (s->param_count > 64) return "it declares " + std::to_string(s->param_count) + " parameters (at most 64)";
   if (s->param_count > 0 && !s->params) return "it declares parameters but no parameter table";
   std::set<std::string> seen;
@@ -39,10 +40,12 @@ std::string declaration_problem(const fl_shader* s) {
     const std::string at = "parameter " + std::to_string(i);
     if (!p.name || !plain_name(p.name, 64)) return at + " has no valid name";
     if (!seen.insert(p.name).second) return "parameter '" + std::string(p.name) + "' is declared twice";
-    if (p.type != FL_PARAM_FLOAT && p.type != FL_PARAM_COLOR) return "parameter '" + std::string(p.name) + "' has an unknown type";
+    if (p.type != FL_PARAM_FLOAT && p.type != FL_PARAM_COLOR && p.type != FL_PARAM_TEXTURE)
+      return "parameter '" + std::string(p.name) + "' has an unknown type";
+    if (p.type == FL_PARAM_TEXTURE) continue;  // a name from the scene: no range, no default
     if (!std::isfinite(p.min) || !std::isfinite(p.max) || p.min > p.max)
       return "parameter '" + std::string(p.name) + "' has a bad range";
-    for (int k = 0; k < int(p.type); ++k)
+    for (int k = 0; k < shader_param_floats(p.type); ++k)
       if (!(p.default_value[k] >= p.min && p.default_value[k] <= p.max))
         return "parameter '" + std::string(p.name) + "' has a default outside its range";
   }
@@ -64,6 +67,13 @@ std::vector<std::string> shader_search_path(const std::string& scene_dir) {
     }
   }
   if (!scene_dir.empty()) out.push_back(scene_dir);
+  // Last, the examples beside the program: a build tree's shaders/, an installation's lib/frameless/shaders.
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec && exe.has_parent_path()) {
+    out.push_back((exe.parent_path().parent_path() / "shaders").string());
+    out.push_back((exe.parent_path().parent_path() / "lib" / "frameless" / "shaders").string());
+  }
   return out;
 }
 
@@ -113,7 +123,7 @@ const fl_param* find_shader_param(const fl_shader& s, const std::string& name, i
   offset = 0;
   for (uint32_t i = 0; i < s.param_count; ++i) {
     if (name == s.params[i].name) return &s.params[i];
-    offset += int(s.params[i].type);
+    offset += shader_param_floats(s.params[i].type);
   }
   return nullptr;
 }
@@ -121,7 +131,8 @@ const fl_param* find_shader_param(const fl_shader& s, const std::string& name, i
 std::vector<float> shader_defaults(const fl_shader& s) {
   std::vector<float> out;
   for (uint32_t i = 0; i < s.param_count; ++i)
-    for (int k = 0; k < int(s.params[i].type); ++k) out.push_back(s.params[i].default_value[k]);
+    for (int k = 0; k < shader_param_floats(s.params[i].type); ++k)
+      out.push_back(s.params[i].type == FL_PARAM_TEXTURE ? -1.0f : s.params[i].default_value[k]);  // no texture
   return out;
 }
 

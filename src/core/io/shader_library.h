@@ -13,7 +13,8 @@
 namespace frameless {
 
 // Folders searched first, in order (the command line's --shader-path); then the folders of the
-// FRAMELESS_SHADER_PATH variable (':'-separated); then the scene file's folder.
+// FRAMELESS_SHADER_PATH variable (:-separated); then the scene file's folder; last the examples
+// beside the program (BIN/../shaders in a build tree, BIN/../lib/frameless/shaders installed).
 void set_shader_search_path(std::vector<std::string> folders);
 std::vector<std::string> shader_search_path(const std::string& scene_dir);
 
@@ -32,5 +33,7 @@ Result<LoadedShader> load_shader(const std::string& name, const std::string& sce
 const fl_param* find_shader_param(const fl_shader& s, const std::string& name, int& offset);
 // The block of default values, in declaration order.
 std::vector<float> shader_defaults(const fl_shader& s);
+// The values one parameter takes in the material's table: 3 for a colour, else 1.
+inline int shader_param_floats(fl_param_type type) { return type == FL_PARAM_COLOR ? 3 : 1; }
 
 }  // namespace frameless

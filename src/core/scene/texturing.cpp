@@ -11,12 +11,6 @@ namespace {
 
 uint16_t material_id(const Geometry& g, uint32_t prim) { return g.material_of(prim); }
 
-// Tangent frame of a triangle's UV parameterisation: dp/du (orthogonalised against n later)
-// and its handedness: -1 where the UVs are mirrored, so dp/dv runs against n x dp/du.
-struct UvTangent {
-  Vec3 dpdu;
-  float handedness = 1.0f;
-};
 UvTangent triangle_dpdu(const Geometry& g, uint32_t prim, const Vec3& ng) {
   const UVec3 t = g.triangles[prim];
   const Vec3 e1 = g.positions[t.y] - g.positions[t.x], e2 = g.positions[t.z] - g.positions[t.x];
@@ -96,6 +90,23 @@ Vec2 hit_uv(const Geometry& g, const Ray& ray, const Hit& hit) {
   return Vec2(u, 1.0f - v);
 }
 
+UvTangent uv_tangent(const Geometry& g, const Hit& hit, const SurfacePoint& sp) {
+  const Vec3 outward = sp.front_face ? sp.ng : -sp.ng;
+  UvTangent frame;
+  if (hit.prim < g.num_triangles()) {
+    frame = triangle_dpdu(g, hit.prim, outward);
+  } else if (hit.prim >= g.first_patch() && hit.prim - g.first_patch() < g.patches.size()) {
+    Vec3 du, dv;  // dP/du of the patch is the tangent along u
+    bezier_eval(g.patches[hit.prim - g.first_patch()].patch(), hit.u, hit.v, &du, &dv);
+    frame.dpdu = glm::dot(du, du) > 0.0f ? du : glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);
+    frame.handedness = glm::dot(glm::cross(du, dv), outward) < 0.0f ? -1.0f : 1.0f;
+  } else {
+    frame.dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
+    if (!(glm::dot(frame.dpdu, frame.dpdu) > 0.0f)) frame.dpdu = Vec3(1.0f, 0.0f, 0.0f);
+  }
+  return frame;
+}
+
 void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const Hit& hit,
                     MaterialParams& m, SurfacePoint& sp) {
   TexturePoint at;
@@ -107,24 +118,10 @@ void apply_textures(const Scene& scene, const Geometry& g, const Ray& ray, const
   if (m.kh_tex != kNoTexture) m.kh *= Vec3(sample_texture(tex[m.kh_tex], at));
   if (m.ks_tex != kNoTexture) m.ks *= Vec3(sample_texture(tex[m.ks_tex], at));
   if (m.normal_tex == kNoTexture && m.bump_tex == kNoTexture) return;
-  const uint32_t nt = g.num_triangles();
-  // The frame is built on the outward normal, so a surface seen from behind is perturbed the
-  // same way as from the front (then turned to the viewer's side below).
-  const Vec3 outward = sp.front_face ? sp.ng : -sp.ng;
+  // The frame is built on the outward normal (uv_tangent), so a surface seen from behind is
+  // perturbed the same way as from the front (then turned to the viewer's side below).
   const Vec3 ns_out = sp.front_face ? sp.ns : -sp.ns;
-  UvTangent frame;
-  if (hit.prim < nt) {
-    frame = triangle_dpdu(g, hit.prim, outward);
-  } else if (hit.prim >= g.first_patch()) {
-    Vec3 du, dv;  // dP/du of the patch is the tangent along u
-    bezier_eval(g.patches[hit.prim - g.first_patch()].patch(), hit.u,
-                hit.v, &du, &dv);
-    frame.dpdu = glm::dot(du, du) > 0.0f ? du : glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);
-    frame.handedness = glm::dot(glm::cross(du, dv), outward) < 0.0f ? -1.0f : 1.0f;
-  } else {
-    frame.dpdu = glm::cross(Vec3(0.0f, 1.0f, 0.0f), outward);  // along increasing u (eastward)
-    if (!(glm::dot(frame.dpdu, frame.dpdu) > 0.0f)) frame.dpdu = Vec3(1.0f, 0.0f, 0.0f);
-  }
+  const UvTangent frame = uv_tangent(g, hit, sp);
   Vec3 n = sp.ns;
   if (m.normal_tex != kNoTexture) {
     // Tangent-space normal map: texel in [0, 1] encodes [-1, 1].

@@ -10,6 +10,15 @@ namespace frameless {
 // none), the spherical map (u around the y axis, v from the south pole) for spheres.
 Vec2 hit_uv(const Geometry& geom, const Ray& ray, const Hit& hit);
 
+// Tangent frame of a hit's UV parameterisation: dp/du (not yet orthogonal to the normal) and its
+// handedness, -1 where the UVs are mirrored so that dp/dv runs against n x dp/du. Primitives
+// without UVs get a tangent in their plane (spheres: eastward).
+struct UvTangent {
+  Vec3 dpdu{1.0f, 0.0f, 0.0f};
+  float handedness = 1.0f;
+};
+UvTangent uv_tangent(const Geometry& g, const Hit& hit, const SurfacePoint& sp);
+
 // Multiplies the textured colours into m and perturbs sp.ns by the normal or bump map.
 void apply_textures(const Scene& scene, const Ray& ray, const Hit& hit, MaterialParams& m,
                     SurfacePoint& sp);

@@ -35,7 +35,7 @@ inline float coat_probability(const PathSurface& s) {
 PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world) {
   PathSurface s;
   s.m = m;
-  // Plug-in shaders are Whitted's; light transport reads them as diffuse with their albedo (kd).
+  // Plug-in shaders without a BSDF: light transport reads them as diffuse with their albedo (kd).
   if (s.m.cls == MaterialClass::kShader) s.m.cls = MaterialClass::kDiffuse;
   // An interpolated normal can face away from the viewer at silhouettes: shade with the
   // geometric normal there rather than lose the vertex (Whitted clamps the same way).
@@ -46,6 +46,32 @@ PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, c
   s.front_face = sp.front_face;
   return s;
 }
+
+void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const fl_shader* shader, const float* params,
+                        const fl_hit& hit, const fl_host& host) {
+  if (m.cls != MaterialClass::kShader || !shader || !shader->eval || !shader->sample) return;
+  s.m.cls = MaterialClass::kShader;
+  s.plugin = shader;
+  s.plugin_params = params;
+  s.plugin_hit = hit;
+  s.plugin_host = host;
+}
+
+namespace {
+
+// The plug-in's f and density toward wi (both 0 when it returns anything non-finite or negative).
+Vec3 plugin_eval(const PathSurface& s, const Vec3& wi, float& pdf) {
+  pdf = 0.0f;
+  float p = 0.0f;
+  const fl_vec3 f = s.plugin->eval(&s.plugin_host, &s.plugin_hit, s.plugin_params,
+                                   fl_vec3{s.wo_world.x, s.wo_world.y, s.wo_world.z}, fl_vec3{wi.x, wi.y, wi.z}, &p);
+  const Vec3 r(f.x, f.y, f.z);
+  if (!is_finite(r) || r.x < 0.0f || r.y < 0.0f || r.z < 0.0f || !std::isfinite(p) || p < 0.0f) return Vec3(0.0f);
+  pdf = p;
+  return r;
+}
+
+}  // namespace
 
 Vec3 guide_albedo(const MaterialParams& m) {
   if (max_component(m.emission) > 0.0f) return Vec3(0.0f);  // emitters: not the denoiser's
@@ -62,12 +88,12 @@ inline bool ggx_coated(const MaterialParams& m) {
 }
 
 bool path_is_smooth(const PathSurface& s) {
-  return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kPolished || ggx_metal(s.m);
+  return s.m.cls == MaterialClass::kDiffuse || s.m.cls == MaterialClass::kShader || s.m.cls == MaterialClass::kPolished || ggx_metal(s.m);
 }
 
 bool path_has_light_lobes(const PathSurface& s) {
   // GGX sees Parker's lights through next-event estimation (its lobe is in path_eval).
-  if (ggx_metal(s.m) || ggx_coated(s.m)) return false;
+  if (ggx_metal(s.m) || ggx_coated(s.m) || s.m.cls == MaterialClass::kShader) return false;
   return s.m.cls == MaterialClass::kMetal ? max_component(s.m.ks) > 0.0f
          : s.m.cls == MaterialClass::kDiffuse ? false
                                               : max_component(s.m.kh) > 0.0f;
@@ -75,6 +101,8 @@ bool path_has_light_lobes(const PathSurface& s) {
 
 Vec3 path_eval(const PathSurface& s, const Vec3& wi) {
   if (glm::dot(wi, s.ng) <= 0.0f) return Vec3(0.0f);
+  float unused;
+  if (s.m.cls == MaterialClass::kShader) return plugin_eval(s, wi, unused);
   const Vec3 l = s.frame.to_local(wi);
   if (ggx_coated(s.m)) return ggx_coated_eval(s.m.kd, s.m.r0, ggx_alpha(s.m), s.wo, l);
   switch (s.m.cls) {
@@ -98,6 +126,8 @@ Vec3 path_eval_light_lobes(const PathSurface& s, const Vec3& wi) {
 
 float path_pdf(const PathSurface& s, const Vec3& wi) {
   if (glm::dot(wi, s.ng) <= 0.0f) return 0.0f;
+  float pdf = 0.0f;
+  if (s.m.cls == MaterialClass::kShader) return plugin_eval(s, wi, pdf), pdf;
   const Vec3 l = s.frame.to_local(wi);
   if (ggx_coated(s.m)) return ggx_coated_pdf(s.m.r0, ggx_alpha(s.m), s.wo, l);
   switch (s.m.cls) {
@@ -122,8 +152,20 @@ bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter
     return glm::dot(out.wi, s.ng) > 0.0f && max_component(out.weight) > 0.0f && is_finite(out.weight);
   }
   switch (s.m.cls) {
-    case MaterialClass::kDiffuse:
-    case MaterialClass::kShader: {  // make_path_surface turns plug-ins diffuse; kept for completeness
+    case MaterialClass::kShader: {  // a plug-in's own BSDF (attach_plugin_bsdf)
+      fl_bsdf_sample b{};
+      if (!s.plugin->sample(&s.plugin_host, &s.plugin_hit, s.plugin_params,
+                            fl_vec3{s.wo_world.x, s.wo_world.y, s.wo_world.z}, u1, u2, &b))
+        return false;
+      out.wi = Vec3(b.wi.x, b.wi.y, b.wi.z);
+      out.weight = Vec3(b.weight.x, b.weight.y, b.weight.z);
+      out.pdf = std::isfinite(b.pdf) && b.pdf > 0.0f ? b.pdf : 0.0f;
+      out.delta = out.pdf == 0.0f;
+      const float len = glm::length(out.wi);
+      if (!(std::abs(len - 1.0f) < 1e-3f) || out.weight.x < 0.0f || out.weight.y < 0.0f || out.weight.z < 0.0f) return false;
+      break;
+    }
+    case MaterialClass::kDiffuse: {
       const BsdfSample b = lambert_sample(s.m.kd, s.wo, u1, u2);
       out.wi = s.frame.to_world(b.wi);
       out.weight = b.weight;

@@ -11,6 +11,7 @@
 #include "core/geometry/shading_frame.h"
 #include "core/geometry/surface.h"
 #include "core/scene/material.h"
+#include "frameless/shader.h"
 
 namespace frameless {
 
@@ -22,7 +23,17 @@ struct PathSurface {
   Vec3 wo_world{0.0f};
   Vec3 ng{0.0f};       // geometric normal, world, facing wo
   bool front_face = true;
+  // A plug-in shader's BSDF (kShader with eval and sample; core/shading/plugin_hit.h sets it).
+  const fl_shader* plugin = nullptr;
+  const float* plugin_params = nullptr;
+  fl_hit plugin_hit{};
+  fl_host plugin_host{};
 };
+
+// Hands a plug-in shaded surface to its shader's BSDF when it has one (kShader stays; without
+// one make_path_surface has made it Lambertian with the shader's albedo).
+void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const fl_shader* shader, const float* params,
+                        const fl_hit& hit, const fl_host& host);
 
 PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world);
 

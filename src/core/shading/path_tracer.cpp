@@ -10,6 +10,7 @@
 #include "core/shading/direct_light.h"
 #include "core/shading/light_sampling.h"
 #include "core/shading/path_material.h"
+#include "core/shading/plugin_hit.h"
 #include "core/shading/volume_lighting.h"
 
 namespace frameless {
@@ -82,7 +83,11 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
       radiance += beta * m.emission * w;
     }
     if (bounce >= max_bounces) break;
-    const PathSurface s = make_path_surface(m, sp, -ray.dir);
+    PathSurface s = make_path_surface(m, sp, -ray.dir);
+    if (m.cls == MaterialClass::kShader) {  // a plug-in's BSDF, where it has one
+      const ShaderMaterial& sh = scene.shaders[m.shader];
+      attach_plugin_bsdf(s, m, sh.shader, sh.params.data(), make_plugin_hit(scene, ray, hit, sp, bounce), path_plugin_host(scene));
+    }
     const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
     radiance += beta * direct_light(st, s, origin, extinction);
     if (bounce >= kRouletteStart) {

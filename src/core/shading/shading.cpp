@@ -26,6 +26,7 @@
 #include "core/scene/scene_intersect.h"
 #include "core/shading/volume_lighting.h"
 #include "core/scene/texturing.h"
+#include "core/shading/plugin_hit.h"
 #include "core/shading/soft_shadow.h"
 
 namespace frameless {
@@ -278,30 +279,31 @@ struct PluginHost {
   const MaterialParams* medium;
   Rng rng{0};
   bool seeded = false;
-  static fl_vec3 out(const Vec3& a) { return fl_vec3{a.x, a.y, a.z}; }
-  static Vec3 in(const fl_vec3& a) { return Vec3(a.x, a.y, a.z); }
   static PluginHost& of(void* ctx) { return *static_cast<PluginHost*>(ctx); }
   static void lights(void* ctx, fl_light_visitor visit, void* user) {
     if constexpr ((F & kShadeLights) != 0)
-      for_each_visible_light(of(ctx).c, of(ctx).sp, [&](const Vec3& le, const Vec3& l, float nl) { visit(user, out(le), out(l), nl); });
+      for_each_visible_light(of(ctx).c, of(ctx).sp, [&](const Vec3& le, const Vec3& l, float nl) { visit(user, to_fl(le), to_fl(l), nl); });
   }
   static fl_vec3 ambient(void* ctx, fl_vec3 n) {
-    const Vec3 d = in(n);
+    const Vec3 d = from_fl(n);
     const float len = glm::length(d);
-    return out(len > 0.0f && std::isfinite(len) ? ambient_light(of(ctx).c.scene.ambient, of(ctx).sp.p, d / len) : Vec3(0.0f));
+    return to_fl(len > 0.0f && std::isfinite(len) ? ambient_light(of(ctx).c.scene.ambient, of(ctx).sp.p, d / len) : Vec3(0.0f));
   }
   static fl_vec3 trace(void* ctx, fl_vec3 direction, fl_vec3 weight) {
     PluginHost& h = of(ctx);
-    const Vec3 d = in(direction), w = glm::max(in(weight), Vec3(0.0f));
-    if (!(glm::dot(d, d) > 0.0f) || !is_finite(d) || !is_finite(w)) return out(Vec3(0.0f));
+    const Vec3 d = from_fl(direction), w = glm::max(from_fl(weight), Vec3(0.0f));
+    if (!(glm::dot(d, d) > 0.0f) || !is_finite(d) || !is_finite(w)) return to_fl(Vec3(0.0f));
     const bool above = glm::dot(d, h.sp.ng) > 0.0f;  // leaves on the side it points to
     const Vec3 origin = offset_ray_origin(h.sp.p, above ? h.sp.ng : -h.sp.ng, h.sp.scale);
-    return out(trace_child<F>(h.c, h.sp.p, origin, d, h.depth, h.weight * w, above ? h.medium : nullptr));
+    return to_fl(trace_child<F>(h.c, h.sp.p, origin, d, h.depth, h.weight * w, above ? h.medium : nullptr));
   }
   static float random(void* ctx) {
     PluginHost& h = of(ctx);
     if (!h.seeded) h.rng = Rng(mix64(h.c.rng_seed + h.c.draws++)), h.seeded = true;
     return h.rng.next_float();
+  }
+  static fl_vec4 texture(void* ctx, float slot, float u, float v, fl_vec3 p) {
+    return plugin_texture(of(ctx).c.scene, slot, u, v, p);
   }
 };
 
@@ -311,13 +313,10 @@ Vec3 shade_plugin(const ShadeContext& c, const Ray& ray, const Hit& hit, const M
   const ShaderMaterial& s = c.scene.shaders[m.shader];
   PluginHost<F> ph{c, sp, depth, weight, medium};
   const fl_host host{FRAMELESS_SHADER_API_VERSION, &ph, &PluginHost<F>::lights, &PluginHost<F>::ambient,
-                     &PluginHost<F>::trace, &PluginHost<F>::random};
-  // Texture coordinates where the primitive has its own (not instances, moving objects, volumes).
-  const bool plain = hit.inst == kInvalidId && !is_dynamic_prim(hit.prim) && !is_volume_prim(hit.prim);
-  const Vec2 uv = plain ? hit_uv(c.scene.geometry, ray, hit) : Vec2(0.0f);
-  const fl_hit h{PluginHost<F>::out(sp.p), PluginHost<F>::out(sp.ng), PluginHost<F>::out(sp.ns), PluginHost<F>::out(ray.dir),
-                 uv.x, uv.y, sp.front_face ? 1 : 0, depth};
-  Vec3 r = PluginHost<F>::in(s.shader->shade(&host, &h, s.params.data()));
+                     &PluginHost<F>::trace, &PluginHost<F>::random, &plugin_noise, &plugin_turbulence,
+                     &PluginHost<F>::texture};
+  const fl_hit h = make_plugin_hit(c.scene, ray, hit, sp, depth);
+  Vec3 r = from_fl(s.shader->shade(&host, &h, s.params.data()));
   for (int k = 0; k < 3; ++k) r[k] = std::isfinite(r[k]) && r[k] > 0.0f ? r[k] : 0.0f;  // no NaN or negative light
   return r;
 }
