@@ -184,6 +184,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   else if (name == "showcase") return make_showcase();  // a JSON scene: already finalized
   else if (name == "teapot") return make_teapot();
   else if (name == "room") return make_room();
+  else if (name == "office") return make_office();
   else if (name.rfind("spheres:", 0) == 0) scene = make_spheres(name);
   else if (name.rfind("volume:", 0) == 0) return make_volume_scene(name);
   else if (name == "sunflowers") return make_sunflowers();
@@ -201,7 +202,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
     return make_sunflowers(*n, true);
   } else
     return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
-                        "scene (default, cornell, showcase, balls, teapot, room, sunflowers[:N], "
+                        "scene (default, cornell, showcase, balls, teapot, room, office, sunflowers[:N], "
                         "sunflowers-flat:N, spheres:N[:SEED], volume:KIND:N[:MODE], bunny)"};
   if (!scene) return scene;
   finalize_scene(**scene);
@@ -216,6 +217,8 @@ const char* builtin_scene_help() {
          "  balls              Parker's bouncing balls: physics, soft shadows, moving while you look\n"
          "  teapot             the Utah teapot's 32 Bezier patches, ray traced directly\n"
          "  room               figure 16: ~75,000 polygons, spline teapot, glass, textures\n"
+         "  office             OpenRT's office: plug-in wood and marble, a lightfield in a bump-mapped\n"
+         "                     mirror, the volume shader's phantom, glass, soft shadows\n"
          "  sunflowers[:N]     OpenRT's sunflower field: 10 plant kinds instanced N times (default\n"
          "                     46000: about a billion triangles), cut-out leaves, a low sun\n"
          "  sunflowers-flat:N  the same N plants as one plain mesh (~21,000 triangles each on average)\n"

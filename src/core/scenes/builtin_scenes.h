@@ -50,6 +50,10 @@ Result<std::unique_ptr<Scene>> make_showcase();
 Result<std::unique_ptr<Scene>> make_teapot();
 Result<std::unique_ptr<Scene>> make_room();
 
+// OpenRT's office (builtin_office.cpp): plug-in wood and marble, a bump-mapped mirror showing a
+// lightfield object baked at load, the volume shader's phantom, glass, soft shadows. Finalized.
+Result<std::unique_ptr<Scene>> make_office();
+
 // OpenRT's sunflower field (builtin_sunflowers.cpp): ten plant kinds instanced `plants` times
 // (plus a few trees), finalized. The default count represents about one billion triangles.
 // flat: the same field copied into one plain mesh, without instancing (big-mesh benchmarks).
