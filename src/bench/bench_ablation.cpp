@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <stdexcept>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -20,6 +21,8 @@
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "core/scene/scene_analysis.h"
+#include "core/scene/scene_finalize.h"
+#include "core/shading/parker_shaders.h"
 #include "core/scenes/scene_variants.h"
 #include "frameless/cpu_clock.h"
 #include "frameless/engine.h"
@@ -67,6 +70,22 @@ bool bit_identical(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
+// Renders `on` and `off` alternately, and which goes first alternates too (no order bias); the
+// row gets each one's median CPU time, the images the last of each.
+void alternate(int repeats, Row& r, std::vector<float>& img_on, std::vector<float>& img_off,
+               const std::function<std::vector<float>(bool on, double& seconds)>& render) {
+  std::vector<double> t_on, t_off;
+  double t = 0;
+  for (int k = 0; k < std::max(1, repeats); ++k)
+    for (int j = 0; j < 2; ++j) {
+      const bool on = (j == 0) == (k % 2 == 0);
+      (on ? img_on : img_off) = render(on, t);
+      (on ? t_on : t_off).push_back(t);
+    }
+  r.on = median(t_on);
+  r.off = median(t_off);
+}
+
 // A per-sample skip: renders with `on` and `off` settings alternately, median CPU time of each.
 Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(SkipConfig&)>& off,
                    const AblationOptions& a, int w, int h, double tolerance) {
@@ -82,26 +101,42 @@ Row per_sample_row(Scene& s, const std::string& skip, const std::function<void(S
   r.path_off = describe_shade_path(shade_path(s.features, off_cfg));
   r.code_on = path_code(shade_path(s.features, on_cfg));
   r.code_off = path_code(shade_path(s.features, off_cfg));
-  std::vector<double> t_on, t_off;
   std::vector<float> img_on, img_off;
-  double t = 0;
-  // On and off alternate, and which goes first alternates too (no order bias).
-  for (int k = 0; k < std::max(1, a.repeats); ++k)
-    for (int j = 0; j < 2; ++j) {
-      const bool on = (j == 0) == (k % 2 == 0);
-      s.settings.skips = on ? on_cfg : off_cfg;
-      (on ? img_on : img_off) = render_one_thread(s, w, h, a.spp, t);
-      (on ? t_on : t_off).push_back(t);
-    }
+  alternate(a.repeats, r, img_on, img_off, [&](bool on, double& t) {
+    s.settings.skips = on ? on_cfg : off_cfg;
+    return render_one_thread(s, w, h, a.spp, t);
+  });
   s.settings.skips = on_cfg;
-  r.on = median(t_on);
-  r.off = median(t_off);
   r.exact = tolerance == 0;
   r.identical = bit_identical(img_on, img_off);
   r.rmse = image_error(img_on, img_off).rmse;
   r.tolerance = tolerance;
   r.pass = r.exact ? r.identical : r.rmse <= tolerance;
   r.check = r.exact ? "bit-identical" : "RMSE <= " + std::to_string(tolerance);
+  return r;
+}
+
+// Parker's classes compiled (the kernel's switch) against the same classes through the plug-in
+// interface (core/shading/parker_shaders.h): what the compiled dispatch saves, images within 1e-4.
+Row interface_row(const AblationOptions& a, int w, int h) {
+  note("parker classes compiled vs through the interface");
+  auto compiled = load_scene_or_report(a.scene), routed = load_scene_or_report(a.scene);
+  if (!compiled || !routed) throw std::runtime_error(a.scene + ": cannot load");
+  Row r;
+  r.skip = "interface";
+  r.scene = compiled->name;
+  r.timing = "1-thread CPU s per image";
+  r.path_on = r.code_on = "compiled";
+  r.path_off = r.code_off = "shader.h (" + std::to_string(route_through_interface(*routed)) + ")";
+  finalize_scene(*routed);
+  std::vector<float> img_on, img_off;
+  alternate(a.repeats, r, img_on, img_off,
+            [&](bool on, double& t) { return render_one_thread(on ? *compiled : *routed, w, h, a.spp, t); });
+  r.identical = bit_identical(img_on, img_off);
+  r.rmse = image_error(img_on, img_off).rmse;
+  r.tolerance = 1e-4;
+  r.pass = r.rmse <= r.tolerance;
+  r.check = "RMSE <= 1e-4";
   return r;
 }
 
@@ -312,6 +347,7 @@ int run_ablation(const AblationOptions& a) {
       rows.push_back(r);
     }
     rows.push_back(variance_row(*base, ec, a));
+    rows.push_back(interface_row(a, w, h));
     for (Row& r : rows) r.saved = r.off > 0 ? 1.0 - r.on / r.off : 0.0;
 
     note("adaptive vs plain (reference at 64 spp)");

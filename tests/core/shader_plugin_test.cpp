@@ -135,7 +135,7 @@ TEST(ShaderPlugin, BadShadersAndParametersAreOneLine) {
       {R"({"shader":"broken_version"})", "built for shader interface version 99, frameless has version 1"},
       {R"({"shader":"broken_params"})", "parameter 'k' has a bad range"},
       {R"({"shader":"broken_no_entry"})", "not a frameless shader (no frameless_shader_v1 entry point)"},
-      {R"({"shader":"gooch","params":{"kd":[0.5,0.5]}})", "materials.m.params.kd: expected [r, g, b]"},
+      {R"({"shader":"gooch","params":{"kd":[0.5,0.5]}})", "materials.m.params.kd: expected [r, g, b] or one number"},
       {R"({"shader":"gooch","params":{"shine":3}})", "materials.m.params.shine: unknown parameter of shader 'gooch' (it declares kd, blue, yellow, alpha, beta, shininess)"},
       {R"({"shader":"gooch","params":{"blue":2}})", "materials.m.params.blue"},
       {R"({"shader":"gooch","class":"diffuse"})", "class"},

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "core/io/shader_library.h"
+#include "core/shading/parker_shaders.h"
 
 namespace frameless::scene_json {
 namespace {
@@ -196,10 +197,16 @@ Material parse_shader_material(const std::string& name, const json& j, const std
                                const std::string& base_dir, const TextureNames& textures) {
   require_object(j, f);
   check_keys(j, f, {"shader", "params", "emission"});
-  auto loaded = load_shader(get_string(j["shader"], f + ".shader"), base_dir);
-  if (!loaded) fail(f + ".shader", loaded.error().message);
-  const fl_shader& sh = *loaded->shader;
-  ShaderMaterial bound{&sh, shader_defaults(sh), loaded->library};
+  // Parker's classes are built in (never loaded): declared like plug-ins, run as compiled.
+  const std::string shader_name = get_string(j["shader"], f + ".shader");
+  LoadedShader loaded{parker_shader(shader_name), "built in"};
+  if (!loaded.shader) {
+    auto found = load_shader(shader_name, base_dir);
+    if (!found) fail(f + ".shader", found.error().message);
+    loaded = *found;
+  }
+  const fl_shader& sh = *loaded.shader;
+  ShaderMaterial bound{&sh, shader_defaults(sh), loaded.library};
   if (j.contains("params")) {
     const json& params = require_object(j["params"], f + ".params");
     for (auto it = params.begin(); it != params.end(); ++it) {
@@ -218,15 +225,25 @@ Material parse_shader_material(const std::string& name, const json& j, const std
         bound.params[size_t(at)] = float(texture_ref(it.value(), pf, textures));
       } else if (decl->type == FL_PARAM_FLOAT) {
         bound.params[size_t(at)] = get_float(it.value(), pf, decl->min, decl->max, range);
+      } else if (it.value().is_number()) {  // a grey: one number for all three
+        const float g = get_float(it.value(), pf, decl->min, decl->max, range);
+        for (int k = 0; k < 3; ++k) bound.params[size_t(at + k)] = g;
       } else {
-        if (!it.value().is_array() || it.value().size() != 3) fail(pf, "expected [r, g, b]");
+        if (!it.value().is_array() || it.value().size() != 3) fail(pf, "expected [r, g, b] or one number");
         for (int k = 0; k < 3; ++k)
           bound.params[size_t(at + k)] = get_float(it.value()[size_t(k)], pf + "[" + std::to_string(k) + "]", decl->min, decl->max, range);
       }
     }
   }
-  if (scene.shaders.size() >= 65535) fail(f, "too many shader materials (at most 65535)");
   Material m;
+  if (parker_shader(shader_name)) {
+    m = parker_material(sh, bound.params.data());
+    m.name = name;
+    if (j.contains("emission")) m.emission = get_color(j["emission"], f + ".emission");
+    if (max_component(m.emission) > 1e6f) fail(f + ".emission", "must be at most 1e6");
+    return m;
+  }
+  if (scene.shaders.size() >= 65535) fail(f, "too many shader materials (at most 65535)");
   m.name = name;
   m.cls = MaterialClass::kShader;
   m.shader = uint16_t(scene.shaders.size());
@@ -234,7 +251,7 @@ Material parse_shader_material(const std::string& name, const json& j, const std
   if (sh.albedo) {
     const fl_vec3 a = sh.albedo(bound.params.data());
     m.kd = Vec3(a.x, a.y, a.z);
-    if (!is_finite(m.kd)) fail(f + ".shader", loaded->library + ": albedo() returned a non-finite colour");
+    if (!is_finite(m.kd)) fail(f + ".shader", loaded.library + ": albedo() returned a non-finite colour");
     m.kd = glm::clamp(m.kd, Vec3(0.0f), Vec3(1.0f));
   }
   if (j.contains("emission")) {

@@ -47,14 +47,10 @@ PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, c
   return s;
 }
 
-void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const fl_shader* shader, const float* params,
-                        const fl_hit& hit, const fl_host& host) {
-  if (m.cls != MaterialClass::kShader || !shader || !shader->eval || !shader->sample) return;
+void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const PluginBsdf& bsdf) {
+  if (m.cls != MaterialClass::kShader || !bsdf.shader || !bsdf.shader->eval || !bsdf.shader->sample) return;
   s.m.cls = MaterialClass::kShader;
-  s.plugin = shader;
-  s.plugin_params = params;
-  s.plugin_hit = hit;
-  s.plugin_host = host;
+  s.plugin = &bsdf;
 }
 
 namespace {
@@ -63,7 +59,8 @@ namespace {
 Vec3 plugin_eval(const PathSurface& s, const Vec3& wi, float& pdf) {
   pdf = 0.0f;
   float p = 0.0f;
-  const fl_vec3 f = s.plugin->eval(&s.plugin_host, &s.plugin_hit, s.plugin_params,
+  const PluginBsdf& b = *s.plugin;
+  const fl_vec3 f = b.shader->eval(&b.host, &b.hit, b.params,
                                    fl_vec3{s.wo_world.x, s.wo_world.y, s.wo_world.z}, fl_vec3{wi.x, wi.y, wi.z}, &p);
   const Vec3 r(f.x, f.y, f.z);
   if (!is_finite(r) || r.x < 0.0f || r.y < 0.0f || r.z < 0.0f || !std::isfinite(p) || p < 0.0f) return Vec3(0.0f);
@@ -154,7 +151,8 @@ bool path_sample(const PathSurface& s, float u0, float u1, float u2, PathScatter
   switch (s.m.cls) {
     case MaterialClass::kShader: {  // a plug-in's own BSDF (attach_plugin_bsdf)
       fl_bsdf_sample b{};
-      if (!s.plugin->sample(&s.plugin_host, &s.plugin_hit, s.plugin_params,
+      const PluginBsdf& p = *s.plugin;
+      if (!p.shader->sample(&p.host, &p.hit, p.params,
                             fl_vec3{s.wo_world.x, s.wo_world.y, s.wo_world.z}, u1, u2, &b))
         return false;
       out.wi = Vec3(b.wi.x, b.wi.y, b.wi.z);

@@ -23,17 +23,22 @@ struct PathSurface {
   Vec3 wo_world{0.0f};
   Vec3 ng{0.0f};       // geometric normal, world, facing wo
   bool front_face = true;
-  // A plug-in shader's BSDF (kShader with eval and sample; core/shading/plugin_hit.h sets it).
-  const fl_shader* plugin = nullptr;
-  const float* plugin_params = nullptr;
-  fl_hit plugin_hit{};
-  fl_host plugin_host{};
+  // A plug-in shader's BSDF (kShader with eval and sample; attach_plugin_bsdf sets it). A
+  // pointer, so that the other materials' surfaces stay small.
+  const struct PluginBsdf* plugin = nullptr;
+};
+
+// What a plug-in's eval() and sample() are called with; the caller keeps it alive.
+struct PluginBsdf {
+  const fl_shader* shader = nullptr;
+  const float* params = nullptr;
+  fl_hit hit{};
+  fl_host host{};
 };
 
 // Hands a plug-in shaded surface to its shader's BSDF when it has one (kShader stays; without
 // one make_path_surface has made it Lambertian with the shader's albedo).
-void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const fl_shader* shader, const float* params,
-                        const fl_hit& hit, const fl_host& host);
+void attach_plugin_bsdf(PathSurface& s, const MaterialParams& m, const PluginBsdf& bsdf);
 
 PathSurface make_path_surface(const MaterialParams& m, const SurfacePoint& sp, const Vec3& wo_world);
 

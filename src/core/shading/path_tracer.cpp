@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/base/rng.h"
 #include "core/scene/scene_intersect.h"
@@ -84,9 +85,11 @@ Vec3 trace_path(const Scene& scene, const Ray& camera_ray, uint64_t seed, const 
     }
     if (bounce >= max_bounces) break;
     PathSurface s = make_path_surface(m, sp, -ray.dir);
+    std::optional<PluginBsdf> plugin;  // built only on plug-in surfaces
     if (m.cls == MaterialClass::kShader) {  // a plug-in's BSDF, where it has one
       const ShaderMaterial& sh = scene.shaders[m.shader];
-      attach_plugin_bsdf(s, m, sh.shader, sh.params.data(), make_plugin_hit(scene, ray, hit, sp, bounce), path_plugin_host(scene));
+      plugin.emplace(PluginBsdf{sh.shader, sh.params.data(), make_plugin_hit(scene, ray, hit, sp, bounce), path_plugin_host(scene)});
+      attach_plugin_bsdf(s, m, *plugin);
     }
     const Vec3 origin = offset_ray_origin(sp.p, sp.ng, sp.scale);
     radiance += beta * direct_light(st, s, origin, extinction);
