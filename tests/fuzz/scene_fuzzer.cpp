@@ -375,7 +375,7 @@ void run_vdb(const Result<VdbVolume>& r) {
 
 void run_lightfield(const Result<std::shared_ptr<const LightField>>& r) {
   if (!r) return check_error(r.error());
-  const LightField& lf = **r;
+  const LightField& lf = *r.value();
   if (!check_lightfield(lf).empty()) broken("lightfield", check_lightfield(lf));
   for (int k = 0; k < 64; ++k) {
     const float a = float(k % 8) / 3.5f - 1.0f, b = float(k / 8) / 3.5f - 1.0f;
