@@ -22,3 +22,10 @@ pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 # OpenVDB files: Blosc decompresses the leaves OpenVDB 10 writes by default (libblosc-dev); the
 # reader is our own (core/io/volume_vdb.h), so OpenVDB itself is not linked.
 pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
+# The Python module (pybind11-dev, python3-dev, python3-numpy): Debian's /usr/bin/python3.
+set(PYBIND11_FINDPYTHON ON)
+set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the module is built for")
+find_package(pybind11 2.6 QUIET CONFIG)
+if(NOT pybind11_FOUND)
+  message(STATUS "pybind11 not found: the Python module is not built (tools/install-deps.sh installs pybind11-dev)")
+endif()

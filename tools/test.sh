@@ -60,13 +60,13 @@ tools/build.sh build/asan "${clang[@]}" \
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests cli_tests frameless scene_fuzzer
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
-  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz' -E '_NOT_BUILT$')
+  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz|api|python' -E '_NOT_BUILT$')
 
-section "ThreadSanitizer build and tests (engine and render -> display -> consumer exchange)"
+section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API)"
 tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
-  ctest -j"$jobs" --output-on-failure -L 'engine|exchange')
+  ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$')
 
 section "ThreadSanitizer: whole cluster jobs under mpirun (master's communication thread, clients)"
 cluster_tsan_jobs
