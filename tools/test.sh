@@ -60,7 +60,7 @@ tools/build.sh build/asan "${clang[@]}" \
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests cli_tests frameless scene_fuzzer
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
-  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz|api|python' -E '_NOT_BUILT$')
+  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz|api|python|install' -E '_NOT_BUILT$')
 
 section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API)"
 tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
