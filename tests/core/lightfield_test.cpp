@@ -194,6 +194,12 @@ TEST(Lightfield, FilesRoundTripAndEveryBrokenOneIsOneLine) {
   expect_one_line(decode_lightfield(patched("frameless:uv", 0, 4), "bad.exr"), "but uv x st makes");
   expect_one_line(decode_lightfield(patched("frameless:st", 1, 0), "bad.exr"), "out of range");
   expect_one_line(decode_lightfield(patched("frameless:slab", 3, 0x3f800000), "bad.exr"), "affine");
+  // An attribute claiming 2 GB: refused before anything is allocated for it.
+  std::string huge = bytes;
+  const size_t size_at = huge.find(std::string("frameless:scene\0string\0", 23)) + 23;
+  const int32_t claim = 0x7fffffff;
+  std::memcpy(&huge[size_at], &claim, 4);
+  expect_one_line(decode_lightfield(huge, "bad.exr"), "claims more bytes than the file holds");
   std::string renamed = bytes;
   renamed.replace(renamed.find("frameless:lightfield"), 20, "frameless:lightfielX");
   expect_one_line(decode_lightfield(renamed, "bad.exr"), "not a lightfield");

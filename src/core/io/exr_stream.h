@@ -29,4 +29,28 @@ class ExrMemoryStream : public Imf::IStream {
   uint64_t pos_ = 0;
 };
 
+// Walks the first header's attribute list (name, type, size, value) and checks every size against
+// the bytes that follow, before OpenEXR allocates what a size claims: "" or what is wrong.
+inline std::string exr_header_problem(const std::string& bytes) {
+  size_t at = 8;  // past the magic and the version field
+  const auto c_string = [&](size_t& p) {
+    const size_t end = bytes.find('\0', p);
+    if (end == std::string::npos || end - p > 255) return false;
+    p = end + 1;
+    return true;
+  };
+  for (int attributes = 0; attributes < 4096; ++attributes) {
+    if (at >= bytes.size()) return "header is truncated";
+    if (bytes[at] == '\0') return "";  // the header's end
+    if (!c_string(at) || !c_string(at)) return "header attribute " + std::to_string(attributes) + " has no valid name or type";
+    if (bytes.size() - at < 4) return "header is truncated";
+    const uint32_t size = uint32_t(uint8_t(bytes[at])) | uint32_t(uint8_t(bytes[at + 1])) << 8 |
+                          uint32_t(uint8_t(bytes[at + 2])) << 16 | uint32_t(uint8_t(bytes[at + 3])) << 24;
+    at += 4;
+    if (size > bytes.size() - at) return "header attribute " + std::to_string(attributes) + " claims more bytes than the file holds";
+    at += size;
+  }
+  return "header has more than 4096 attributes";
+}
+
 }  // namespace frameless

@@ -278,7 +278,9 @@ Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const 
   image->path = path;
   try {
     ExrMemoryStream stream(bytes, path);
-    // Header first, alone: the size check must come before InputFile sizes its tables.
+    // Header first, alone: the size check must come before InputFile sizes its tables, and the
+    // attributes' claimed sizes before OpenEXR allocates them.
+    if (const std::string p = exr_header_problem(bytes); !p.empty()) return fail(path, "invalid EXR: " + p);
     Imf::Header header;
     int version = int(read_le32(bytes, 4));
     stream.seekg(8);

@@ -44,6 +44,7 @@ Result<std::shared_ptr<const LightField>> decode_lightfield(const std::string& b
     {  // the header alone first: sizes are checked before the library sizes its tables
       if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0)
         return fail(path, "not an OpenEXR file (a lightfield is an EXR mosaic; docs/lightfields.md)");
+      if (const std::string p = exr_header_problem(bytes); !p.empty()) return fail(path, p);
       Imf::Header header;
       int version = int(uint8_t(bytes[4])) | int(uint8_t(bytes[5])) << 8 | int(uint8_t(bytes[6])) << 16 |
                           int(uint8_t(bytes[7])) << 24;
