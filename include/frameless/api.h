@@ -157,4 +157,47 @@ class Engine {
   std::unique_ptr<Impl> impl_;
 };
 
+struct CaptureOptions {
+  std::string out_dir;             // frames (frame_NNNNN.exr), manifest.json, contact_sheet.png
+  double duration = 2.0;           // seconds (wall, or virtual when deterministic)
+  double refresh_hz = 30.0;        // display refreshes per second = frames per second
+  std::string mode = "frameless";  // or "conventional"
+  int width = 0, height = 0;       // 0: the scene's
+  int threads = 0;                 // 0: all cores
+  bool deterministic = false;      // virtual clock: the same call gives the same frames
+  double orbit_degrees = 0.0;      // the camera orbits this far about its look-at point
+  std::vector<std::string> layers; // per-pixel layers in each EXR: age, count, variance, epoch, levels
+  bool contact_sheet = true;
+};
+struct CaptureInfo {
+  int frames = 0;
+  std::string manifest;       // path of manifest.json
+  std::string contact_sheet;  // path, empty when not written
+};
+// What the display shows over time, headless (as `frameless capture`, without the MP4).
+Result<CaptureInfo> capture(const Scene& scene, const CaptureOptions& options);
+
+struct UpdateStatisticsOptions {
+  int width = 128, height = 96;
+  int threads = 1;
+  double update_percent = 1.0;
+  uint64_t seed = 1;
+  double sweeps = 4.0;  // run length in sweeps of every pixel (deterministic clock)
+  bool shade = false;   // false: a flat shader (where pixels update does not depend on shading)
+};
+// The pixel-update distribution of the frameless order (docs/stats.md): per-pixel update counts
+// (uniformity and a chi-square test against equal rates), gaps between a pixel's updates, and how
+// soon pixels show a camera change (in sweeps, against the bound 1 + update % / 100).
+struct UpdateStatistics {
+  uint32_t updates_min = 0, updates_max = 0;
+  double updates_mean = 0, updates_cv = 0;
+  double chi2 = 0, chi2_dof = 0, chi2_p = 1;
+  double interval_mean_sweeps = 0, interval_cv = 0, interval_max_sweeps = 0;
+  bool staleness_measured = false;
+  double t50_sweeps = 0, t95_sweeps = 0, t100_sweeps = 0, bound_sweeps = 0;
+  std::vector<uint64_t> thread_pixels;
+  bool balanced = true;  // threads own pixel counts within one chunk of each other
+};
+Result<UpdateStatistics> update_statistics(const Scene& scene, const UpdateStatisticsOptions& options = {});
+
 }  // namespace frameless::api

@@ -129,6 +129,83 @@ PYBIND11_MODULE(frameless, m) {
       py::arg("eye") = py::none(), py::arg("look") = py::none(), py::arg("up") = py::none(), py::arg("fov") = 0.0f,
       "Renders a scene once: an H x W x 3 float32 array of linear radiance.");
 
+  m.def(
+      "capture",
+      [](const py::object& scene, const std::string& out, double duration, double refresh_hz, const std::string& mode,
+         const py::object& size, int threads, bool deterministic, double orbit, std::vector<std::string> layers,
+         bool contact_sheet) {
+        const Scene s = as_scene(scene);
+        CaptureOptions o;
+        o.out_dir = out;
+        o.duration = duration;
+        o.refresh_hz = refresh_hz;
+        o.mode = mode;
+        std::tie(o.width, o.height) = size_of(size);
+        o.threads = threads;
+        o.deterministic = deterministic;
+        o.orbit_degrees = orbit;
+        o.layers = std::move(layers);
+        o.contact_sheet = contact_sheet;
+        Result<CaptureInfo> r = Result<CaptureInfo>::failure("");
+        {
+          py::gil_scoped_release release;
+          r = capture(s, o);
+        }
+        const CaptureInfo info = unwrap(std::move(r));
+        py::dict d;
+        d["frames"] = info.frames;
+        d["manifest"] = info.manifest;
+        d["contact_sheet"] = info.contact_sheet;
+        return d;
+      },
+      py::arg("scene"), py::arg("out"), py::arg("duration") = 2.0, py::arg("refresh_hz") = 30.0,
+      py::arg("mode") = "frameless", py::arg("size") = py::none(), py::arg("threads") = 0,
+      py::arg("deterministic") = false, py::arg("orbit") = 0.0, py::arg("layers") = std::vector<std::string>{},
+      py::arg("contact_sheet") = true,
+      "Headless capture of what the display shows over time: EXR frames, manifest.json, contact sheet.");
+
+  m.def(
+      "update_statistics",
+      [](const py::object& scene, const py::object& size, int threads, double update_percent, uint64_t seed,
+         double sweeps, bool shade) {
+        const Scene s = as_scene(scene);
+        UpdateStatisticsOptions o;
+        if (!size.is_none()) std::tie(o.width, o.height) = size_of(size);
+        o.threads = threads;
+        o.update_percent = update_percent;
+        o.seed = seed;
+        o.sweeps = sweeps;
+        o.shade = shade;
+        Result<UpdateStatistics> r = Result<UpdateStatistics>::failure("");
+        {
+          py::gil_scoped_release release;
+          r = update_statistics(s, o);
+        }
+        const UpdateStatistics u = unwrap(std::move(r));
+        py::dict d;
+        d["updates_min"] = u.updates_min;
+        d["updates_max"] = u.updates_max;
+        d["updates_mean"] = u.updates_mean;
+        d["updates_cv"] = u.updates_cv;
+        d["chi2"] = u.chi2;
+        d["chi2_dof"] = u.chi2_dof;
+        d["chi2_p"] = u.chi2_p;
+        d["interval_mean_sweeps"] = u.interval_mean_sweeps;
+        d["interval_cv"] = u.interval_cv;
+        d["interval_max_sweeps"] = u.interval_max_sweeps;
+        d["staleness_measured"] = u.staleness_measured;
+        d["t50_sweeps"] = u.t50_sweeps;
+        d["t95_sweeps"] = u.t95_sweeps;
+        d["t100_sweeps"] = u.t100_sweeps;
+        d["bound_sweeps"] = u.bound_sweeps;
+        d["thread_pixels"] = u.thread_pixels;
+        d["balanced"] = u.balanced;
+        return d;
+      },
+      py::arg("scene") = "default", py::arg("size") = py::none(), py::arg("threads") = 1,
+      py::arg("update_percent") = 1.0, py::arg("seed") = 1, py::arg("sweeps") = 4.0, py::arg("shade") = false,
+      "Statistics of the pixel-update distribution (docs/stats.md) from a deterministic run.");
+
   py::class_<Engine>(m, "Engine", "The frameless engine and its display thread, running until stop().")
       .def(py::init([](const py::object& scene, const std::string& mode, const py::object& size, int threads,
                        double update_percent, double alpha, double refresh_hz, bool reproject, bool deterministic,

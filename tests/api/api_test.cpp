@@ -139,5 +139,45 @@ TEST(Api, AWallClockEngineRendersOnItsOwnThreads) {
   e->stop();  // idempotent
 }
 
+TEST(Api, CapturesAndTheUpdateDistribution) {
+  auto s = Scene::load("default");
+  ASSERT_TRUE(s);
+  const std::string dir = ::testing::TempDir() + "api_capture";
+  CaptureOptions c;
+  c.out_dir = dir;
+  c.duration = 0.3;
+  c.refresh_hz = 10;
+  c.width = 48;
+  c.height = 32;
+  c.deterministic = true;
+  c.orbit_degrees = 20;
+  c.layers = {"age", "count"};
+  auto info = capture(*s, c);
+  ASSERT_TRUE(info) << info.error();
+  EXPECT_EQ(info->frames, 3);
+  EXPECT_EQ(info->manifest, dir + "/manifest.json");
+  c.out_dir = "/proc/no-such-place";
+  auto bad = capture(*s, c);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().find('\n'), std::string::npos);
+  c.out_dir = dir;
+  c.layers = {"colour"};
+  EXPECT_FALSE(capture(*s, c));
+  // Deterministic frameless order: every pixel updated once per sweep, the camera change seen by
+  // every pixel within 1 + update % / 100 sweeps.
+  UpdateStatisticsOptions o;
+  o.threads = 2;
+  auto st = update_statistics(*s, o);
+  ASSERT_TRUE(st) << st.error();
+  EXPECT_EQ(st->updates_min, st->updates_max);
+  EXPECT_NEAR(st->updates_mean, 4.0, 1e-9);
+  EXPECT_TRUE(st->staleness_measured);
+  EXPECT_LE(st->t100_sweeps, st->bound_sweeps + 1e-9);
+  EXPECT_EQ(st->thread_pixels.size(), 2u);
+  EXPECT_TRUE(st->balanced);
+  o.width = 0;
+  EXPECT_FALSE(update_statistics(*s, o));
+}
+
 }  // namespace
 }  // namespace frameless::api

@@ -83,3 +83,16 @@ def test_rendering_and_running_engines_leave_python_free():
     stats = e.stats()
     e.stop()
     assert stats["samples"] > 0 and stats["display_ticks"] > 0
+
+
+def test_capture_and_update_statistics(tmp_path):
+    info = frameless.capture("default", str(tmp_path / "cap"), duration=0.3, refresh_hz=10, size=(48, 32),
+                             deterministic=True, orbit=20, layers=["age"])
+    assert info["frames"] == 3
+    assert (tmp_path / "cap" / "frame_00002.exr").exists()
+    with pytest.raises(ValueError, match="duration"):
+        frameless.capture("default", str(tmp_path / "bad"), duration=-1)
+    st = frameless.update_statistics("default", threads=2)
+    assert st["updates_min"] == st["updates_max"] == 4
+    assert st["staleness_measured"] and st["t100_sweeps"] <= st["bound_sweeps"] + 1e-9
+    assert len(st["thread_pixels"]) == 2 and st["balanced"]
