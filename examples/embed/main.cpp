@@ -88,9 +88,15 @@ int main(int argc, char** argv) {
     if (img.width == kW && img.height == kH) glDrawPixels(kW, kH, GL_RGB, GL_FLOAT, pixels.data());
     glfwSwapBuffers(window);
   }
+  // What the window shows now: its mean brightness, read back (0 would mean nothing was drawn).
+  std::vector<float> shown(size_t(kW) * kH * 3);
+  glReadPixels(0, 0, kW, kH, GL_RGB, GL_FLOAT, shown.data());
+  double mean = 0;
+  for (float v : shown) mean += v;
+  mean /= double(shown.size());
   const EngineStats s = engine->stats();
-  std::printf("embed: %s, %.1f s, %llu samples (%.2f M/s), %llu pixel updates shown\n", spec.c_str(), s.seconds,
-              (unsigned long long)s.samples, s.samples_per_s * 1e-6, (unsigned long long)s.pixel_updates);
+  std::printf("embed: %s, %.1f s, %llu samples (%.2f M/s), %llu pixel updates shown, window mean %.3f\n", spec.c_str(),
+              s.seconds, (unsigned long long)s.samples, s.samples_per_s * 1e-6, (unsigned long long)s.pixel_updates, mean);
   engine->stop();
   glfwDestroyWindow(window);
   glfwTerminate();
