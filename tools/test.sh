@@ -64,7 +64,7 @@ tools/build.sh build/asan "${clang[@]}" \
 
 section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API)"
 tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests frameless
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
   ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$')
 

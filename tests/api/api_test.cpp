@@ -6,6 +6,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <thread>
 
 #include "frameless/api.h"
@@ -78,6 +80,31 @@ TEST(Api, BadInputIsAnErrorResultWithTheCommandLinesMessage) {
   e = {};
   e.alpha = 0;
   EXPECT_FALSE(Engine::start(*s, e));
+}
+
+// The command line's output for `args` (stdout and stderr).
+std::string cli_output(const std::string& args) {
+  std::string out;
+  if (FILE* p = popen((std::string(FRAMELESS_BINARY) + " " + args + " 2>&1").c_str(), "r")) {
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    pclose(p);
+  }
+  return out;
+}
+
+TEST(Api, ErrorsAreTheCommandLinesOwnLines) {
+  const std::string dir = ::testing::TempDir();
+  const std::string bad = dir + "api_bad.json";
+  std::FILE* f = std::fopen(bad.c_str(), "w");
+  ASSERT_TRUE(f);
+  std::fputs(R"({"objects": [{"type": "sphere", "center": [0, 0, 0], "radius": -1, "material": "x"}]})", f);
+  std::fclose(f);
+  for (const std::string& spec : {bad, std::string("/nonexistent/scene.json"), std::string("spheres:0")}) {
+    auto s = Scene::load(spec);
+    ASSERT_FALSE(s) << spec;
+    EXPECT_EQ(cli_output("render " + spec + " --out " + dir + "api_never.exr"), "frameless: " + s.error() + "\n") << spec;
+  }
 }
 
 TEST(Api, AnEngineFollowsCameraLightsAndMaterials) {
