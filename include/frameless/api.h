@@ -65,6 +65,7 @@ struct SceneInfo {
   std::string name;
   int width = 0, height = 0;         // the scene's own image size
   uint64_t triangles = 0, spheres = 0, patches = 0, instances = 0, volumes = 0, lightfields = 0;
+  uint64_t moving_objects = 0;       // "dynamic" spheres set_object_position moves
   std::vector<std::string> materials;  // names, in index order
   int lights = 0;
 };
@@ -139,6 +140,12 @@ class Engine {
   // threads pick them up at their next sample; they never wait for the caller).
   Result<bool> set_light(int index, const Light& light);
   Result<bool> set_material_color(const std::string& name, const Vec3& kd);
+  // Moving objects (a scene's "dynamic" spheres): the base centre of object `index`.
+  Result<bool> set_object_position(int index, const Vec3& center);
+  // Instances (a scene's "instance" objects): the world placement of declared instance `index`,
+  // a 3x4 row-major affine matrix (the top level is refit and published; render threads pick it
+  // up like the camera).
+  Result<bool> set_instance_transform(int index, const std::array<float, 12>& row_major_3x4);
   // Deterministic engines: render one display tick's samples and blend them.
   Result<bool> advance();
   // The display's newest image (linear RGB) and a per-pixel state layer: "age" (seconds since

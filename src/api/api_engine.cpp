@@ -127,6 +127,37 @@ Result<bool> Engine::set_material_color(const std::string& name, const Vec3& kd)
   return true;
 }
 
+Result<bool> Engine::set_object_position(int index, const Vec3& center) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  WorldState w = impl_->engine->world();
+  if (index < 0 || size_t(index) >= w.object_position.size())
+    return fail("object " + std::to_string(index) + ": the scene has " + std::to_string(w.object_position.size()) +
+                " moving objects");
+  if (!std::isfinite(center[0] + center[1] + center[2])) return fail("object " + std::to_string(index) + ": position must be finite");
+  w.object_position[size_t(index)] = ::frameless::Vec3(center[0], center[1], center[2]);
+  impl_->engine->publish_world(w);
+  return true;
+}
+
+Result<bool> Engine::set_instance_transform(int index, const std::array<float, 12>& m) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  const size_t n = impl_->scene->geometry.instances.size();
+  if (index < 0 || size_t(index) >= n)
+    return fail("instance " + std::to_string(index) + ": the scene has " + std::to_string(n) + " instances");
+  InstanceMove move;
+  move.index = uint32_t(index);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) move.to_world.m[c][r] = m[size_t(4 * r + c)];
+    move.to_world.t[r] = m[size_t(4 * r + 3)];
+  }
+  try {
+    impl_->engine->move_instances({move});
+  } catch (const std::exception& e) {  // singular or non-finite: the engine's one line
+    return fail(one_line(e.what()));
+  }
+  return true;
+}
+
 Result<bool> Engine::advance() {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   if (!impl_->deterministic) return fail("advance: only a deterministic engine advances by calls");

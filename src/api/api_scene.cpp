@@ -74,6 +74,7 @@ SceneInfo Scene::info() const {
   i.instances = s.geometry.instances.size();
   i.volumes = s.volumes.size();
   i.lightfields = s.lightfields.size();
+  i.moving_objects = s.dynamic.size();
   for (const Material& m : s.materials) i.materials.push_back(m.name);
   i.lights = int(s.lights.size());
   return i;

@@ -98,6 +98,7 @@ PYBIND11_MODULE(frameless, m) {
         d["instances"] = i.instances;
         d["volumes"] = i.volumes;
         d["lightfields"] = i.lightfields;
+        d["moving_objects"] = i.moving_objects;
         d["materials"] = i.materials;
         d["lights"] = i.lights;
         return d;
@@ -249,6 +250,21 @@ PYBIND11_MODULE(frameless, m) {
           "set_material_color",
           [](Engine& e, const std::string& name, const py::object& kd) { unwrap(e.set_material_color(name, vec3(kd, "kd"))); },
           py::arg("name"), py::arg("kd"))
+      .def(
+          "set_object_position",
+          [](Engine& e, int index, const py::object& center) { unwrap(e.set_object_position(index, vec3(center, "center"))); },
+          py::arg("index"), py::arg("center"), "Moves a scene's moving ('dynamic') object.")
+      .def(
+          "set_instance_transform",
+          [](Engine& e, int index, const py::object& matrix) {
+            // Any nesting (3x4, 4x4, flat, numpy): read row-major.
+            const py::array_t<float, py::array::c_style | py::array::forcecast> a(matrix);
+            if (a.size() != 12 && a.size() != 16) throw py::value_error("matrix: expected 3x4 or 4x4 numbers, row-major");
+            std::array<float, 12> m{};
+            for (size_t k = 0; k < 12; ++k) m[k] = a.data()[k];
+            unwrap(e.set_instance_transform(index, m));
+          },
+          py::arg("index"), py::arg("matrix"), "Places a declared instance: a row-major 3x4 (or 4x4) matrix.")
       .def("advance", [](Engine& e, int ticks) {
             py::gil_scoped_release release;
             for (int k = 0; k < ticks; ++k)

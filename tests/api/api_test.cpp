@@ -148,6 +148,37 @@ TEST(Api, AnEngineFollowsCameraLightsAndMaterials) {
   EXPECT_FALSE(e->advance());
 }
 
+TEST(Api, MovingObjectsAndInstancesMoveWhereTheyAreTold) {
+  // A moving sphere and an instanced triangle pair, both starting in the middle of the view.
+  auto s = Scene::from_json(R"({"camera": {"eye": [0, 0, 4], "look": [0, 0, 0]}, "ambient": {"type": "constant", "color": 1},
+    "materials": {"m": {"class": "diffuse", "kd": [0.9, 0.1, 0.1]}, "q": {"class": "diffuse", "kd": [0.1, 0.1, 0.9]}},
+    "meshes": {"quad": {"type": "triangles", "vertices": [[-0.3,-0.3,0],[0.3,-0.3,0],[0.3,0.3,0],[-0.3,0.3,0]],
+                        "indices": [[0,1,2],[0,2,3]], "material": "q"}},
+    "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.3, "material": "m", "dynamic": true},
+                {"type": "instance", "mesh": "quad", "transform": {"translate": [0, 0, -1]}}]})");
+  ASSERT_TRUE(s) << s.error();
+  EXPECT_EQ(s->info().moving_objects, 1u);
+  EngineOptions o;
+  o.width = o.height = 32;
+  o.threads = 1;
+  o.deterministic = true;
+  o.samples_per_tick = 32 * 32 * 2;
+  auto e = Engine::start(*s, o);
+  ASSERT_TRUE(e) << e.error();
+  const auto settle = [&] { for (int k = 0; k < 6; ++k) ASSERT_TRUE(e->advance()); };
+  settle();
+  EXPECT_GT(e->image().at(16, 16, 0), 0.5f);  // the red sphere in front
+  ASSERT_TRUE(e->set_object_position(0, {5, 0, 0}));
+  settle();
+  EXPECT_GT(e->image().at(16, 16, 2), 0.5f);  // gone: the blue instance behind shows
+  ASSERT_TRUE(e->set_instance_transform(0, {1, 0, 0, 9, 0, 1, 0, 0, 0, 0, 1, -1}));
+  settle();
+  EXPECT_EQ(e->image().at(16, 16, 2), 0.0f);  // and it moved away too
+  EXPECT_FALSE(e->set_object_position(1, {0, 0, 0}));
+  EXPECT_FALSE(e->set_instance_transform(0, {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}));  // singular
+  EXPECT_FALSE(e->set_instance_transform(4, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}));
+}
+
 TEST(Api, AWallClockEngineRendersOnItsOwnThreads) {
   auto s = Scene::load("default");
   ASSERT_TRUE(s);

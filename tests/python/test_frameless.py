@@ -96,3 +96,25 @@ def test_capture_and_update_statistics(tmp_path):
     assert st["updates_min"] == st["updates_max"] == 4
     assert st["staleness_measured"] and st["t100_sweeps"] <= st["bound_sweeps"] + 1e-9
     assert len(st["thread_pixels"]) == 2 and st["balanced"]
+
+
+def test_moving_objects_and_instances():
+    scene = frameless.Scene.from_json("""{"camera": {"eye": [0, 0, 4], "look": [0, 0, 0]},
+      "ambient": {"type": "constant", "color": 1},
+      "materials": {"m": {"class": "diffuse", "kd": [0.9, 0.1, 0.1]}, "q": {"class": "diffuse", "kd": [0.1, 0.1, 0.9]}},
+      "meshes": {"quad": {"type": "triangles", "vertices": [[-0.3,-0.3,0],[0.3,-0.3,0],[0.3,0.3,0],[-0.3,0.3,0]],
+                          "indices": [[0,1,2],[0,2,3]], "material": "q"}},
+      "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.3, "material": "m", "dynamic": true},
+                  {"type": "instance", "mesh": "quad", "transform": {"translate": [0, 0, -1]}}]}""")
+    assert scene.info["moving_objects"] == 1 and scene.info["instances"] == 1
+    with frameless.Engine(scene, size=(32, 32), threads=1, deterministic=True, samples_per_tick=2048) as e:
+        e.advance(6)
+        assert e.image()[16, 16, 0] > 0.5
+        e.set_object_position(0, (5, 0, 0))
+        e.advance(6)
+        assert e.image()[16, 16, 2] > 0.5
+        e.set_instance_transform(0, np.array([[1, 0, 0, 9], [0, 1, 0, 0], [0, 0, 1, -1]]))
+        e.advance(6)
+        assert e.image()[16, 16].sum() == 0
+        with pytest.raises(ValueError, match="instance"):
+            e.set_instance_transform(3, np.eye(4))
