@@ -3,12 +3,10 @@
 
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 
 #include "core/io/lightfield_file.h"
 #include "core/scenes/scene_load.h"
-#include "display/atomic_file.h"
 #include "display/png_io.h"
 #include "core/shading/lightfield_bake.h"
 #include "tools/command_registry.h"
@@ -45,13 +43,8 @@ int run_bake(const BakeArgs& a) {
   if (uint64_t(nu) * nv * ns * nt > (uint64_t(1) << 31)) return report_error("--uv x --st: more than 2^31 texels");
   if (a.spp < 1 || a.spp > 4096) return report_error("--spp: must be between 1 and 4096");
   if (!valid_threads(a.threads, error)) return report_error(error);
-  for (const std::string& path : {a.out, a.png}) {
-    if (path.empty()) continue;
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty()) std::filesystem::create_directories(dir, ec);
-    if (!directory_writable(dir.string(), error)) return report_error(error);
-  }
+  for (const std::string& path : {a.out, a.png})
+    if (!path.empty() && !output_dir_ok(path, error)) return report_error(error);
   std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
   if (!scene) return 2;
   if (!a.camera.apply(scene->camera, error)) return report_error(error);

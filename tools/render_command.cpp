@@ -30,15 +30,6 @@ struct RenderArgs {
   CameraOptions camera;
 };
 
-bool output_dir_ok(const std::string& path, std::string& error) {
-  const std::string dir = std::filesystem::path(path).parent_path().string();
-  if (!dir.empty() && !std::filesystem::exists(dir)) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-  }
-  return directory_writable(dir, error);
-}
-
 int run_render(const RenderArgs& a) {
   std::string error;
   // Check every output before spending minutes rendering.

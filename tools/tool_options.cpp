@@ -1,9 +1,21 @@
 // Flags of the shared options: see tool_options.h.
 #include "tools/tool_options.h"
 
+#include <filesystem>
+
 #include "core/io/shader_library.h"
+#include "display/atomic_file.h"
 
 namespace frameless::cli {
+
+bool output_dir_ok(const std::string& path, std::string& error) {
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  if (!dir.empty() && !std::filesystem::exists(dir)) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+  }
+  return directory_writable(dir, error);
+}
 
 void add_camera_flags(CLI::App& app, CameraOptions& camera) {
   app.add_option("--eye", camera.eye, "camera position x,y,z")->delimiter(',')->expected(3);

@@ -19,6 +19,10 @@ using bench::show_progress;
 using bench::thread_parallel_for;
 using bench::valid_threads;
 
+// Creates the folder an output file goes to when missing and checks it can be written (before
+// minutes of rendering); false with a one-line `error` otherwise.
+bool output_dir_ok(const std::string& path, std::string& error);
+
 // --eye/--look/--up x,y,z and --fov DEG into `camera`.
 void add_camera_flags(CLI::App& app, CameraOptions& camera);
 

@@ -28,7 +28,7 @@ Camera slab_camera(const Affine& slab, const float* e) {
   c.eye = slab.point(Vec3(e[0], e[1], e[2]));
   c.look = slab.t;
   c.up = glm::normalize(slab.m[1]);
-  c.fov_deg = float(2.0 * std::atan(1.15 / (e[2] - 0.0)) * 180.0 / 3.14159265358979);
+  c.fov_deg = float(2.0 * std::atan(1.15 / e[2]) * 180.0 / 3.14159265358979);  // the slab (radius ~1.15) fills the view
   return c;
 }
 

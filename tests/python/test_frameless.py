@@ -118,3 +118,10 @@ def test_moving_objects_and_instances():
         assert e.image()[16, 16].sum() == 0
         with pytest.raises(ValueError, match="instance"):
             e.set_instance_transform(3, np.eye(4))
+
+
+def test_the_office_finds_its_plug_in_shaders_from_python():
+    office = frameless.Scene.load("office")
+    assert office.info["lightfields"] == 2 and office.info["volumes"] == 1
+    img = frameless.render(office, size=(48, 30), spp=1)
+    assert np.isfinite(img).all() and img.mean() > 0.05

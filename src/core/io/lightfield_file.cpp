@@ -23,11 +23,7 @@
 namespace frameless {
 namespace {
 
-Error fail(const std::string& path, std::string what) {
-  for (char& c : what)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  return Error{path + ": " + what};
-}
+Error fail(const std::string& path, const std::string& what) { return Error{one_line(path + ": " + what)}; }
 
 template <class A>
 const A* attribute(const Imf::Header& h, const char* name) {
@@ -77,7 +73,6 @@ Result<std::shared_ptr<const LightField>> decode_lightfield(const std::string& b
     if (w != int64_t(lf->width()) || ht != int64_t(lf->height()))
       return fail(path, "image is " + std::to_string(w) + "x" + std::to_string(ht) + " but uv x st makes " +
                             std::to_string(lf->width()) + "x" + std::to_string(lf->height()));
-    if (uint64_t(w) * uint64_t(ht) > (uint64_t(1) << 31)) return fail(path, "more than 2^31 texels");
     const Imf::ChannelList& list = h.channels();
     for (const char* c : {"R", "G", "B", "A"}) {
       const Imf::Channel* ch = list.findChannel(c);

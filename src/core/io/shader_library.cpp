@@ -67,13 +67,10 @@ std::vector<std::string> shader_search_path(const std::string& scene_dir) {
     }
   }
   if (!scene_dir.empty()) out.push_back(scene_dir);
-  // Last, the examples beside the program: a build tree's shaders/, an installation's lib/frameless/shaders.
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec && exe.has_parent_path()) {
-    out.push_back((exe.parent_path().parent_path() / "shaders").string());
-    out.push_back((exe.parent_path().parent_path() / "lib" / "frameless" / "shaders").string());
-  }
+  // Last, the example shaders of this build: its own shaders/ folder, then where it installs them
+  // (so the command line, the API and the Python module all find them, built or installed).
+  out.push_back(FRAMELESS_BUILD_SHADER_DIR);
+  out.push_back(FRAMELESS_INSTALL_SHADER_DIR);
   return out;
 }
 

@@ -13,8 +13,8 @@
 namespace frameless {
 
 // Folders searched first, in order (the command line's --shader-path); then the folders of the
-// FRAMELESS_SHADER_PATH variable (:-separated); then the scene file's folder; last the examples
-// beside the program (BIN/../shaders in a build tree, BIN/../lib/frameless/shaders installed).
+// FRAMELESS_SHADER_PATH variable (:-separated); then the scene file's folder; last the example
+// shaders of this build (its build tree's shaders/, then the installation's lib/frameless/shaders).
 void set_shader_search_path(std::vector<std::string> folders);
 std::vector<std::string> shader_search_path(const std::string& scene_dir);
 

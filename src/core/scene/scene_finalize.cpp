@@ -29,11 +29,15 @@ void build_accel(Scene& scene, const AccelConfig& base) {
 
 }  // namespace
 
-void finalize_scene(Scene& scene, const AccelConfig& config) {
-  scene.features = analyse_scene(scene);
+void refresh_see_through(Scene& scene) {
   scene.see_through_volumes = false;
   for (const VolumeObject& v : scene.volumes) scene.see_through_volumes |= v.mode != VolumeMode::kIsosurface;
   scene.see_through = scene.see_through_volumes || !scene.lightfields.empty();
+}
+
+void finalize_scene(Scene& scene, const AccelConfig& config) {
+  scene.features = analyse_scene(scene);
+  refresh_see_through(scene);
   // Light that bounces by default only where something emits (the scene's own choice wins).
   if (scene.settings.integrator == Integrator::kAuto)
     scene.settings.integrator = scene.features.has_emission ? Integrator::kPath : Integrator::kWhitted;

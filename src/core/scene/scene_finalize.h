@@ -10,6 +10,11 @@ namespace frameless {
 // once after loading. config supplies the build parameters; its kind is ignored.
 void finalize_scene(Scene& scene, const AccelConfig& config = {});
 
+// Sets the flags of what rays composite on their way (see-through volumes, lightfields) from the
+// scene's volumes and lightfields; finalize_scene calls it, and so may code that adds
+// lightfields to a finalized scene (nothing else depends on them).
+void refresh_see_through(Scene& scene);
+
 // Rebuilds a finalized scene's acceleration structure as `kind` (command-line --accel).
 void set_accel(Scene& scene, AccelKind kind, const AccelConfig& config = {});
 

@@ -1,6 +1,6 @@
 // The built-in "office" (issue 28; OpenRT's figure 1, Wald et al. 2003): objects that carry their
 // own shading side by side. A room with a desk and two chairs; wood and marble from plug-in
-// shaders (examples/shaders, found beside the program); a bump-mapped mirror on the back wall
+// shaders (examples/shaders, this build's); a bump-mapped mirror on the back wall
 // that shows a lightfield object (a sculpture baked into two light slabs when the scene loads,
 // one facing the camera and one facing its image in the mirror); the Shepp-Logan phantom through
 // the volume shader, seen in the mirror and casting a transparent shadow; a glass vase; soft
@@ -139,7 +139,7 @@ Result<std::unique_ptr<Scene>> make_office() {
     lf->source = "office sculpture (baked at load)";
     s.lightfields.push_back(place_lightfield(std::move(lf), Affine{glm::mat3(1.0f), at}));
   }
-  finalize_scene(s);  // again: the slabs make the scene see-through
+  refresh_see_through(s);  // the slabs make the scene see-through (no rebuild needed)
   return scene;
 }
 

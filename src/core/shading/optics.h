@@ -1,6 +1,8 @@
 // Optics at interfaces (Parker et al. 1999, section 3.1): Schlick's approximation, reflectance at
 // normal incidence, the dielectric's Fresnel weights. Pure functions, any thread.
 #pragma once
+#include <cmath>
+
 #include "core/base/types.h"
 
 namespace frameless {
@@ -9,6 +11,21 @@ namespace frameless {
 inline float pow5(float x) {
   const float x2 = x * x;
   return x2 * x2 * x;
+}
+
+// Parker's highlight (h . n)^N with h the half vector of unit e and l (0 where h . n <= 0).
+inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {
+  const Vec3 h = glm::normalize(e + l);
+  const float hn = glm::dot(h, n);
+  return hn > 0.0f ? std::pow(hn, exponent) : 0.0f;
+}
+
+// Mirror direction of d about the shading normal ns, about the geometric normal ng where the
+// shading normal would send it below the surface.
+inline Vec3 mirror_direction(const Vec3& d, const Vec3& ns, const Vec3& ng) {
+  Vec3 r = d - 2.0f * glm::dot(d, ns) * ns;
+  if (glm::dot(r, ng) <= 0.0f) r = d - 2.0f * glm::dot(d, ng) * ng;
+  return r;
 }
 
 // Schlick's approximation k_s = R0 + (1 - R0)(1 - cos)^5, cos clamped to [0, 1].

@@ -25,17 +25,8 @@ const fl_param kPolishedParams[] = {{"kd", FL_PARAM_COLOR, 0.0f, kBig, {0.8f, 0.
                                     {"phong_exponent", FL_PARAM_FLOAT, 0.0f, kBig, {32.0f}, "highlight exponent N"}};
 
 Vec3 p3(const float* p) { return Vec3(p[0], p[1], p[2]); }
-float lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {  // Phong (h.n)^N
-  const Vec3 h = glm::normalize(e + l);
-  const float hn = glm::dot(h, n);
-  return hn > 0.0f ? std::pow(hn, exponent) : 0.0f;
-}
-// Mirror direction about the shading normal, the geometric one where that would go below.
 Vec3 mirror_of(const fl_hit* h) {
-  const Vec3 d = from_fl(h->direction), ns = from_fl(h->shading_normal), ng = from_fl(h->geometric_normal);
-  Vec3 r = d - 2.0f * glm::dot(d, ns) * ns;
-  if (glm::dot(r, ng) <= 0.0f) r = d - 2.0f * glm::dot(d, ng) * ng;
-  return r;
+  return mirror_direction(from_fl(h->direction), from_fl(h->shading_normal), from_fl(h->geometric_normal));
 }
 Vec3 trace(const fl_host* host, const Vec3& d, const Vec3& w) { return from_fl(host->trace(host->ctx, to_fl(d), to_fl(w))); }
 
@@ -49,7 +40,7 @@ void visit(void* user, fl_vec3 radiance, fl_vec3 dir, float nl) {
   LightSum& s = *static_cast<LightSum*>(user);
   const Vec3 le = from_fl(radiance), l = from_fl(dir);
   s.kd_term += le * (s.coupled ? s.view_factor * (1.0f - pow5(1.0f - nl)) : nl);
-  if (max_component(s.kh) > 0.0f) s.highlight += le * s.kh * lobe(s.n, s.e, l, s.exponent);
+  if (max_component(s.kh) > 0.0f) s.highlight += le * s.kh * phong_lobe(s.n, s.e, l, s.exponent);
 }
 
 fl_vec3 shade_diffuse(const fl_host* host, const fl_hit* h, const float* p) {

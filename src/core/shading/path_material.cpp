@@ -15,13 +15,7 @@ inline float mean3(const Vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
 
 // Mirror of -wo about the shading normal; the geometric normal's when the shading normal would
 // send it below the surface (as the Whitted integrator does).
-Vec3 mirror_world(const PathSurface& s) {
-  const Vec3 d = -s.wo_world;
-  const Vec3 n = s.frame.n;
-  Vec3 r = d - 2.0f * glm::dot(d, n) * n;
-  if (glm::dot(r, s.ng) <= 0.0f) r = d - 2.0f * glm::dot(d, s.ng) * s.ng;
-  return glm::normalize(r);
-}
+Vec3 mirror_world(const PathSurface& s) { return glm::normalize(mirror_direction(-s.wo_world, s.frame.n, s.ng)); }
 
 inline float cos_out(const PathSurface& s) { return std::clamp(s.wo.z, 0.0f, 1.0f); }
 

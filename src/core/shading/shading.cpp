@@ -33,12 +33,6 @@ namespace frameless {
 
 namespace {
 
-// Blinn-Phong lobe (h.n)^N, zero when h points below the surface.
-inline float phong_lobe(const Vec3& n, const Vec3& e, const Vec3& l, float exponent) {
-  const Vec3 h = glm::normalize(e + l);
-  const float hn = glm::dot(h, n);
-  return hn > 0.0f ? std::pow(hn, exponent) : 0.0f;
-}
 
 // Per-sample constants of a shading path (read once per sample, not per ray).
 struct ShadeContext {
@@ -184,13 +178,8 @@ inline Vec3 trace_child(const ShadeContext& c, const Vec3& start, const Vec3& or
   return trace_from<F>(c, r, start, depth + 1, child_weight, medium, nullptr, nullptr, nullptr);
 }
 
-// Mirror direction of d about n; falls back to the geometric normal if the shading normal
-// would send the ray below the surface.
-inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) {
-  Vec3 r = d - 2.0f * glm::dot(d, sp.ns) * sp.ns;
-  if (glm::dot(r, sp.ng) <= 0.0f) r = d - 2.0f * glm::dot(d, sp.ng) * sp.ng;
-  return r;
-}
+// The mirror direction at a surface point (core/shading/optics.h).
+inline Vec3 mirror(const Vec3& d, const SurfacePoint& sp) { return mirror_direction(d, sp.ns, sp.ng); }
 
 template <uint32_t F>
 Vec3 shade_diffuse(const ShadeContext& c, const MaterialParams& m, const SurfacePoint& sp) {

@@ -39,25 +39,23 @@ VolumeSegment see_through_along(const Scene& scene, const DynamicFrame* frame, c
     layers[k] = h;
     n = std::min(n + 1, kMaxLayers);
   }
+  // n lightfield layers split the ray into n + 1 stretches of volumes, composited front to back.
   VolumeSegment total;
   Ray part = ray;
   const auto add = [&total](const Vec3& color, float transmittance) {
     total.color += total.transmittance * color;
     total.transmittance *= transmittance;
   };
-  for (int k = 0; k < n; ++k) {
+  for (int k = 0; k <= n; ++k) {
+    const float end = k < n ? layers[k].t : t_end;
     if (scene.see_through_volumes) {
-      const VolumeSegment v = volumes_along(scene, part, layers[k].t, &lighting);
+      const VolumeSegment v = volumes_along(scene, part, end, &lighting);
       add(v.color, v.transmittance);
       total.samples += v.samples;
     }
+    if (k == n) break;
     add(layers[k].color.rgb, 1.0f - std::min(layers[k].color.alpha, 1.0f));
-    part.tmin = layers[k].t;
-  }
-  if (scene.see_through_volumes) {
-    const VolumeSegment v = volumes_along(scene, part, t_end, &lighting);
-    add(v.color, v.transmittance);
-    total.samples += v.samples;
+    part.tmin = end;
   }
   return total;
 }

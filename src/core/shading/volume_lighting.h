@@ -20,7 +20,7 @@ class ParkerVolumeLighting final : public VolumeLighting {
 };
 
 // What lies behind along `ray` up to t_end, seen through the scene's volume-shader and MIP
-// volumes (the colour as it is when the scene has none).
+// volumes and its lightfields, front to back (the colour as it is when the scene has none).
 Vec3 through_volumes(const Scene& scene, const DynamicFrame* frame, const Ray& ray, float t_end, const Vec3& behind);
 
 // A path's vertex-to-vertex stretch through them: adds their light times beta to radiance and
