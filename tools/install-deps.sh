@@ -6,7 +6,7 @@ set -euo pipefail
 build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopenexr-dev nlohmann-json3-dev
   libtinyobjloader-dev libcli11-dev libpng-dev zlib1g-dev libglfw3-dev libosmesa6-dev libgl-dev
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
-  libopenmpi-dev openmpi-bin libblosc-dev pybind11-dev python3-dev python3-numpy)
+  libopenmpi-dev openmpi-bin libblosc-dev pybind11-dev libimgui-dev python3-dev python3-numpy)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3 python3-pytest)
 bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy)
 # tests/data/volumes/make_vdb_fixtures.cpp (by hand only: it rewrites the OpenVDB test fixtures

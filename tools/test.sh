@@ -53,22 +53,23 @@ tools/build.sh build/test-release "${clang[@]}" -DFRAMELESS_TESTS=ON
 (cd build/test-release && ctest -j"$jobs" --output-on-failure)
 [ $quick = 1 ] && exit 0
 
-section "ASan+UBSan build and tests (core, display, cli; the concurrency suites run under TSan)"
+section "ASan+UBSan build and tests (core, display, viewer, cli; the concurrency suites run under TSan)"
 # clang: a third less compile time than g++ here, and the same build links the parser fuzzer.
 tools/build.sh build/asan "${clang[@]}" \
   -DFRAMELESS_SANITIZE=address,undefined -DFRAMELESS_FUZZ=ON -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests cli_tests frameless scene_fuzzer
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests viewer_tests cli_tests frameless scene_fuzzer
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
   ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz|api|python|install' -E '_NOT_BUILT$')
 
-section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API)"
+section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API, the viewer's threads)"
 tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests frameless
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests viewer_tests frameless
 # The API's captures draw through OSMesa, whose rasteriser threads are not instrumented: reports
 # from inside it (and Open MPI) are suppressed; our code's accesses still report.
 (cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp" \
-  ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$')
+  ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$' &&
+  ctest -j"$jobs" --output-on-failure -R 'Panels\.(ShowOver|SceneSettings|ErrorPlot)')
 
 section "ThreadSanitizer: whole cluster jobs under mpirun (master's communication thread, clients)"
 cluster_tsan_jobs

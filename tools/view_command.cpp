@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "core/scenes/scene_load.h"
-#include "display/glfw_viewer.h"
+#include "viewer/viewer.h"
 #include "tools/cluster_flags.h"
 #include "tools/command_registry.h"
 #include "tools/engine_flags.h"
@@ -22,6 +22,7 @@ struct ViewArgs {
   std::string record, script, screenshot, snapshot_dir = "captures";
   int frames = 0;
   bool help_overlay = false;
+  bool panels = false, no_panels = false;
   std::string view = "shaded";
   CameraOptions camera;
 };
@@ -42,6 +43,8 @@ int run(const ViewArgs& a) {
   o.screenshot_path = a.screenshot;
   o.snapshot_dir = a.snapshot_dir;
   o.show_help = a.help_overlay;
+  o.panels = !a.no_panels;
+  o.panels_open = a.panels;
   if (!parse_view(a.view, o.view))
     return report_error("--view: unknown view '" + a.view +
                         "' (shaded, age, count, variance, epoch, levels)");
@@ -78,10 +81,10 @@ int run(const ViewArgs& a) {
 }
 
 const bool registered = register_command(
-    "", "view", "Interactive frameless viewer (GLFW window; H in the window shows the controls)",
+    "", "view", "Interactive frameless viewer (GLFW window; Tab shows the panels, H the keys)",
     [](CLI::App& app) {
       auto a = std::make_shared<ViewArgs>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
+      app.add_option("scene", a->scene, "built-in name, .json scene, .obj/.ply/.gltf/.glb model or .vdb/.nrrd volume")
           ->capture_default_str();
       add_shadow_flags(app, a->shadows);
       add_cluster_flags(app, a->cluster);
@@ -92,12 +95,15 @@ const bool registered = register_command(
                      "write the camera poses with timestamps to FILE (replay: capture --path FILE)");
       app.add_option("--script", a->script,
                      "timed commands: 'SECONDS orbit DX DY|pan DX DY|zoom N|fly R U F S|key K|"
-                     "resize W H|screenshot FILE|quit'");
+                     "resize W H|screenshot FILE|panel NAME|set CONTROL VALUE...|open FILE|quit' "
+                     "(docs/viewer.md)");
       app.add_option("--frames", a->frames, "quit after presenting N frames");
       app.add_option("--screenshot", a->screenshot, "with --frames: save the last frame as PNG");
       app.add_option("--snapshot-dir", a->snapshot_dir, "where P saves EXR snapshots")
           ->capture_default_str();
       app.add_flag("--show-help", a->help_overlay, "start with the controls shown");
+      app.add_flag("--panels", a->panels, "start with the panels shown (Tab shows and hides them)");
+      app.add_flag("--no-panels", a->no_panels, "no Dear ImGui panels: keys and the text overlay only");
       app.add_option("--view", a->view,
                      "view shown first (V cycles): shaded, age, count, variance, epoch, or levels "
                      "(reflection/refraction levels per pixel: 0 dark blue .. 25+ red)")

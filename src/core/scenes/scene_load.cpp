@@ -3,9 +3,13 @@
 #include "core/scenes/scene_load.h"
 
 #include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
 
 #include "core/io/file_util.h"
 #include "core/io/mesh_obj.h"
+#include "core/io/scene_json.h"
 #include "core/io/sphere_file.h"
 #include "core/scene/scene_build.h"
 #include "core/scene/scene_finalize.h"
@@ -47,12 +51,39 @@ Result<std::unique_ptr<Scene>> load_sphere_scene(const std::string& path, const 
   return s;
 }
 
+// A volume file shown alone (OpenVDB, NRRD): a level set as its isosurface, densities through the
+// volume shader in grayscale (the JSON reader's defaults), one light, framed by the camera.
+Result<std::unique_ptr<Scene>> load_volume_file_scene(const std::string& path, const std::string& name) {
+  nlohmann::json j = {
+      {"objects", {{{"type", "volume"}, {"file", std::filesystem::absolute(path).string()}}}},
+      {"lights", {{{"type", "point"}, {"position", {0, 1, 0}}, {"color", {0.9, 0.9, 0.9}}}}},
+      {"ambient", {{"type", "hemisphere"}, {"a", {0.2, 0.2, 0.22}}, {"b", {0.06, 0.06, 0.06}}}}};
+  auto scene = parse_scene_json(j.dump(), path, ".");
+  // Only the file knows whether it holds a level set, whose surface needs a material: then again
+  // with one (the one case a file is read twice).
+  const std::string wants_material = "objects[0].material: missing";
+  if (!scene && scene.error().message.size() >= wants_material.size() &&
+      scene.error().message.compare(scene.error().message.size() - wants_material.size(), std::string::npos, wants_material) == 0) {
+    j["materials"] = {{"surface", {{"class", "diffuse"}, {"kd", {0.75, 0.72, 0.68}}}}};
+    j["objects"][0]["material"] = "surface";
+    scene = parse_scene_json(j.dump(), path, ".");
+  }
+  if (!scene) return scene.error();
+  Scene& s = **scene;
+  const VolumeObject& v = s.volumes.front();
+  s.name = name;
+  s.camera = frame_camera(v.lo, v.hi, s.settings.width, s.settings.height);
+  s.lights.front().position = 0.5f * (v.lo + v.hi) + glm::length(v.hi - v.lo) * Vec3(0.6f, 1.2f, 0.9f);
+  return scene;
+}
+
 Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
   const std::string ext = file_extension(spec);
   if (ext == ".json") return load_scene_json(spec);
   const size_t slash = spec.find_last_of('/');
   const std::string name = slash == std::string::npos ? spec : spec.substr(slash + 1);
   if (ext == ".spheres") return load_sphere_scene(spec, name);
+  if (ext == ".vdb" || ext == ".nrrd" || ext == ".nhdr") return load_volume_file_scene(spec, name);
   if (ext == ".obj" || ext == ".ply") {
     // An OBJ that names MTL libraries keeps its materials and textures; others get the default.
     ImageCache images;

@@ -13,7 +13,8 @@
 namespace frameless {
 
 // Loads SPEC: a built-in name ("default", "balls", "spheres:N", "bunny"), a .json scene file,
-// or a mesh file (.obj, .ply) shown with a default material, light and framing camera.
+// a mesh file (.obj, .ply, .gltf, .glb) shown with a default material, light and framing camera,
+// or a volume file (.vdb, .nrrd, .nhdr) shown alone the same way.
 // The returned scene is finalized (accel built).
 Result<std::unique_ptr<Scene>> load_scene(const std::string& spec);
 

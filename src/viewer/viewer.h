@@ -1,6 +1,7 @@
 // The interactive frameless viewer: a GLFW window showing the display thread's image through
-// GlPresenter, with orbit/pan/zoom/fly controls, live settings and a text overlay. Runs on the
-// main thread, which owns the window and its GL context; the engine and display thread run beside it.
+// GlPresenter, with orbit/pan/zoom/fly controls, Dear ImGui panels (or, where ImGui cannot run,
+// keys and a bitmap text overlay). Runs on the main thread, which owns the window, its GL context
+// and the panels; the engine's render threads and the display thread run beside it.
 #pragma once
 #include <functional>
 #include <string>
@@ -34,8 +35,11 @@ struct ViewerOptions {
   // the image keeps opt.engine's size (the window scales it) and M, G, T, ',' and '.' are off.
   std::function<void(Engine*)> engine_hook;
   bool fixed_layout = false;
-  // The scene itself when the viewer may change it (the volume keys); null: it may not.
+  // The scene itself when the viewer may change it (volumes, render settings, opening another
+  // file); null: it may not (the cluster master).
   Scene* editable_scene = nullptr;
+  bool panels = true;             // Dear ImGui panels (Tab shows/hides them); false: overlay only
+  bool panels_open = false;       // start with the panels shown
 };
 
 // Opens the window and runs until it is closed (Esc), the script quits or max_frames is reached.
@@ -44,9 +48,13 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& options);
 
 // Script lines: "SECONDS COMMAND [ARGS]" ('#' starts a comment), times from the window's opening:
 //   orbit DX DY | pan DX DY | zoom NOTCHES | fly RIGHT UP FORWARD SECONDS | key NAME
-//   (NAME: a key as in the help, e.g. M, V, R, P, H, LEFT_BRACKET) | resize W H |
-//   screenshot FILE.png (or .exr: the window's sRGB values as floats) | quit
+//   (NAME: a key as in the help, e.g. M, V, R, P, H, TAB, LEFT_BRACKET) | resize W H |
+//   screenshot FILE.png (or .exr: the window's sRGB values as floats) | quit |
+//   panel NAME (opens that panel: settings, camera, lights, materials, objects, volumes, plots,
+//   files) | set CONTROL VALUE... (what the panel's widget of that name does; docs/viewer.md
+//   lists them, e.g. "set alpha 0.2", "set light0.color 1 0 0") | open FILE (as the dialog does)
 struct ViewerScriptLine {
+  int line = 0;  // line number in the script (errors while running name it)
   double time = 0;
   std::string command;
   std::vector<std::string> args;

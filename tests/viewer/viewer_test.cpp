@@ -1,74 +1,17 @@
 // The viewer for real: under Xvfb the window opens, shows the scene, reacts to a scripted camera
 // move and quits cleanly; without a display it says so in one line; scripts are validated.
-#include "display/glfw_viewer.h"
+#include "viewer/viewer.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <set>
 
 #include "display/camera_path.h"
-#include "display/exr_io.h"
-
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)  // clang's spelling (the test stage builds with clang)
-#define FRAMELESS_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(FRAMELESS_TEST_ASAN)
-constexpr const char* kChildLeakCheck = "ASAN_OPTIONS=detect_leaks=0 ";
-#else
-constexpr const char* kChildLeakCheck = "";
-#endif
-
-namespace fs = std::filesystem;
+#include "viewer_test_util.h"
 
 namespace frameless {
 namespace {
 
-fs::path scratch() {
-  const fs::path p = fs::temp_directory_path() / ("frameless_viewer_test_" + std::to_string(getpid()));
-  fs::create_directories(p);
-  return p;
-}
-
-struct ScratchCleanup : ::testing::Environment {
-  void TearDown() override { fs::remove_all(scratch()); }
-};
 [[maybe_unused]] ::testing::Environment* const cleanup =
     ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-bool have(const char* tool) {
-  return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
-}
-
-// Distinct colours and mean absolute difference of two window screenshots (EXR, sRGB in [0,1]).
-size_t distinct_colours(const ExrImage& img) {
-  std::set<uint32_t> colours;
-  for (size_t i = 0; i < img.channels.at("R").size(); ++i)
-    colours.insert(uint32_t(img.channels.at("R")[i] * 255) << 16 |
-                   uint32_t(img.channels.at("G")[i] * 255) << 8 | uint32_t(img.channels.at("B")[i] * 255));
-  return colours.size();
-}
-
-double mean_difference(const ExrImage& a, const ExrImage& b) {
-  double sum = 0;
-  size_t n = 0;
-  for (const char* c : {"R", "G", "B"})
-    for (size_t i = 0; i < a.channels.at(c).size(); ++i, ++n)
-      sum += std::abs(a.channels.at(c)[i] - b.channels.at(c)[i]);
-  return n ? sum / double(n) : 0.0;
-}
 
 TEST(Viewer, SmokeTestUnderXvfb) {
   if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb): viewer smoke test skipped";
@@ -83,8 +26,6 @@ TEST(Viewer, SmokeTestUnderXvfb) {
                                     << "1.7 zoom 2\n"
                                     << "3.5 screenshot " << after.string() << "\n"
                                     << "3.6 quit\n";
-  // Under ASan the viewer child's only leaks are in Mesa's DRI driver, which is unloaded at exit
-  // so LeakSanitizer cannot name it (our own allocations are checked by every other test).
   const std::string cmd = std::string(kChildLeakCheck) +
                           "xvfb-run -a -s '-screen 0 320x240x24' " + std::string(FRAMELESS_BINARY) +
                           " view --size 96x64 --threads 2 --script " + (dir / "script.txt").string() +

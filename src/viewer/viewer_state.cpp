@@ -1,0 +1,135 @@
+// The viewer's session (scene, engine, display thread) and the edits that go through it.
+#include "viewer/viewer_state.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <cstdio>
+
+#include "core/scenes/scene_load.h"
+
+namespace frameless {
+
+Viewer::Viewer(const Scene& shown, const ViewerOptions& options)
+    : opt(options), scene(&shown), editable(options.editable_scene) {}
+
+Viewer::~Viewer() { stop_session(); }
+
+double Viewer::now() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool Viewer::may_rebuild() {
+  if (!opt.fixed_layout && editable) return true;
+  status = opt.fixed_layout ? "cluster: the scene and the layout are fixed" : "this scene cannot be changed here";
+  dirty = true;
+  return false;
+}
+
+void Viewer::start_session() {
+  engine = std::make_unique<Engine>(*scene, engine_config, camera);
+  display = std::make_unique<DisplayThread>(*engine, display_config);
+  // Each display tick wakes the main loop (glfwPostEmptyEvent is safe from any thread).
+  display->set_on_tick_info([](const FrameInfo&) { glfwPostEmptyEvent(); });
+  engine->start();
+  if (opt.engine_hook) opt.engine_hook(engine.get());
+  display->start();
+  world = engine->world();
+  rates = ViewerRates{};
+  dirty = true;
+}
+
+void Viewer::stop_session() {
+  if (reference_job.valid()) reference_job.wait();  // it reads the scene
+  if (!engine) return;
+  display_config = display->config();
+  display->stop();
+  engine->stop();
+  display->set_on_tick_info(nullptr);
+  if (opt.engine_hook) opt.engine_hook(nullptr);
+  engine_config = engine->config();
+  display.reset();
+  engine.reset();
+}
+
+void Viewer::rebuild(const std::string& what, const std::function<void(Scene&, EngineConfig&)>& edit) {
+  if (!may_rebuild()) return;
+  stop_session();
+  edit(*editable, engine_config);
+  reference.reset();  // another picture now
+  start_session();
+  status = what + " (render threads restarted)";
+  std::fprintf(stderr, "frameless: %s\n", status.c_str());
+}
+
+void Viewer::open_scene(const std::string& path) {
+  if (!may_rebuild()) return;
+  auto loaded = load_scene(path);
+  if (!loaded.ok()) {
+    status = loaded.error().message;
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+    dirty = true;
+    return;
+  }
+  stop_session();
+  opened = std::move(loaded.value());
+  scene = editable = opened.get();
+  scene_label = path;
+  camera = home = scene->camera;
+  grabbed = -1;
+  playing = {};
+  reference.reset();
+  start_session();
+  glfwSetWindowTitle(window, ("frameless - " + path).c_str());
+  status = "opened " + path;
+  std::fprintf(stderr, "frameless: %s\n", status.c_str());
+}
+
+void Viewer::set_camera(const Camera& c) {
+  if (!camera_is_valid(c) || c == camera) return;
+  camera = c;
+  engine->publish_camera(c);
+  recording.keyframes.push_back({now(), c});
+  dirty = true;
+}
+
+void Viewer::change_display(const std::function<void(DisplayConfig&)>& f) {
+  DisplayConfig c = display->config();
+  f(c);
+  display->set_config(c);
+  display_config = c;
+  dirty = true;
+}
+
+void Viewer::publish_world() {
+  engine->publish_world(world);  // the render threads pick it up at their update percentage
+  dirty = true;
+}
+
+// Volumes are read by the render threads without a lock: they stop while the scene changes, then
+// every pixel restarts (the same camera, published again, is a new epoch).
+void Viewer::edit_volumes(const std::function<std::string(Scene&)>& edit) {
+  if (!may_rebuild()) return;
+  if (reference_job.valid()) reference_job.wait();
+  engine->stop();
+  status = edit(*editable);
+  std::fprintf(stderr, "frameless: %s\n", status.c_str());
+  engine->start();
+  engine->publish_camera(camera);
+  reference.reset();
+  dirty = true;
+}
+
+void Viewer::set_instance_translation(uint32_t declared, const Vec3& t) {
+  Affine a = engine->instance_transform(declared);
+  a.t = t;
+  InstanceUpdate u;
+  engine->move_instances({{declared, a}}, &u);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "instance %u moved: top level %s in %.2f ms", declared,
+                u.rebuilt ? "rebuilt" : "refit", u.copy_ms + u.refit_ms + u.rebuild_ms);
+  status = buf;
+  dirty = true;
+}
+
+}  // namespace frameless
