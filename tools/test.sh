@@ -66,10 +66,11 @@ section "ThreadSanitizer build and tests (engine, render -> display -> consumer 
 tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests viewer_tests frameless
 # The API's captures draw through OSMesa, whose rasteriser threads are not instrumented: reports
-# from inside it (and Open MPI) are suppressed; our code's accesses still report.
-(cd build/tsan && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp" \
+# from inside it (and Open MPI, and the viewer's Mesa GLX driver) are suppressed; our code's
+# accesses still report. The viewer's tests run one at a time (their screenshots are timed).
+(cd build/tsan && export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp" &&
   ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$' &&
-  ctest -j"$jobs" --output-on-failure -R 'Panels\.(ShowOver|SceneSettings|ErrorPlot)')
+  ctest -j1 --output-on-failure -R 'Panels\.(ShowOver|SceneSettings|ErrorPlot)')
 
 section "ThreadSanitizer: whole cluster jobs under mpirun (master's communication thread, clients)"
 cluster_tsan_jobs
