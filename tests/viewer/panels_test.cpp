@@ -48,9 +48,10 @@ TEST(Panels, ShowOverTheImageAndALightControlTintsIt) {
   // The panels cover the left of the window and leave the rest of the image as it was.
   EXPECT_GT(mean_difference(a, b, 0, kPanelRight), 0.05);
   EXPECT_LT(mean_difference(a, b, kImageLeft, kWidth), 0.02);
-  // Blue lights: the image's blue-to-red ratio rises (about 1.1 before, several times that after).
+  // A blue light: the image's blue-to-red ratio rises (1.04 before; 1.54 after 1.6 s under ASan
+  // beside a parallel ctest, more when the machine is free; 1.035 when the control does nothing).
   auto ratio = [](const ExrImage& e) { return channel_mean(e, "B", kImageLeft, kWidth) / channel_mean(e, "R", kImageLeft, kWidth); };
-  EXPECT_GT(ratio(c), 1.5 * ratio(b)) << ratio(b) << " -> " << ratio(c);
+  EXPECT_GT(ratio(c), 1.3 * ratio(b)) << ratio(b) << " -> " << ratio(c);
   // Tab hides the panels: the left shows the (blue) image again, not the panel.
   EXPECT_GT(mean_difference(c, d, 0, kPanelRight), 0.05);
   EXPECT_GT(channel_mean(d, "B", 0, kPanelRight), channel_mean(d, "R", 0, kPanelRight));
