@@ -2,6 +2,7 @@
 // reprojection leaves; see DisplayImage for the layers' meaning.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 namespace frameless {
 
@@ -28,5 +29,29 @@ enum PixelMark : uint8_t {
   kMarkUnknown = 16,  // a disocclusion with nothing nearby to guess from: it shows its old content
 };
 inline constexpr uint8_t kMarkGuess = kMarkFilled | kMarkDisoccluded | kMarkStale;
+
+// How many displayed pixels show each camera epoch (the coverage figure), for the newest kRing
+// epochs (older ones are never the newest). Display thread.
+struct EpochCensus {
+  static constexpr uint32_t kRing = 4096;
+  std::vector<uint32_t> tag, count;
+
+  void clear() {
+    tag.assign(kRing, 0);
+    count.assign(kRing, 0);
+  }
+  void add(uint32_t e) {
+    if (e == 0) return;
+    if (tag[e % kRing] != e) tag[e % kRing] = e, count[e % kRing] = 0;
+    ++count[e % kRing];
+  }
+  // Moves one pixel from epoch `from` to `to`.
+  void move(uint32_t from, uint32_t to) {
+    if (from == to) return;
+    if (from != 0 && tag[from % kRing] == from) --count[from % kRing];
+    add(to);
+  }
+  uint32_t of(uint32_t e) const { return tag.empty() || tag[e % kRing] != e ? 0 : count[e % kRing]; }
+};
 
 }  // namespace frameless

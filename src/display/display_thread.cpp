@@ -67,7 +67,7 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   info.pixels_updated = sink.changed;
   pixels_updated += sink.changed;
   const uint32_t e = r.newest_epoch;
-  const uint32_t covered = epoch_tag.empty() || epoch_tag[e % kEpochRing] != e ? 0 : epoch_count[e % kEpochRing];
+  const uint32_t covered = census.of(e);
   info.coverage = image.pixels() ? double(covered) / double(image.pixels()) : 0.0;
   info.newest_epoch = e;
   info.mode = r.mode;
@@ -117,11 +117,12 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     shown_seq.assign(n, 0);
     img.reset(r.width, r.height, layout);
     reset_reprojection();  // a cleared or resized image has no points (same pixel count or not)
-    epoch_tag.assign(kEpochRing, 0);
-    epoch_count.assign(kEpochRing, 0);
+    census.clear();
+    deferred = nullptr;
     return true;
   }
   const PixelImage& src = buf[newest];
+  deferred = nullptr;
   if (src.layout != layout) {
     remap(src, img, layout);
     return true;
@@ -132,7 +133,8 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.width = src.width;
     img.height = src.height;
     img.layout = src.layout;
-    img.px = src.px;
+    img.px.resize(src.px.size());
+    deferred = &src;  // copied by finish_catch_up unless a reprojection reads src instead
     return false;
   }
   for (uint64_t t = have; t < tick_index; ++t)
@@ -142,7 +144,14 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
   return false;
 }
 
-// Moves the back buffer to the newest camera, once per camera change; true when it did.
+// The full copy catch_up deferred, when no reprojection made it unneeded.
+void DisplayThread::Impl::finish_catch_up(PixelImage& img) {
+  if (deferred) std::memcpy(img.px.data(), deferred->px.data(), img.px.size() * sizeof(DisplayPixel));
+  deferred = nullptr;
+}
+
+// Moves the back buffer to the newest camera, once per camera change; true when it did. A full
+// copy catch_up deferred is not made: the reprojection reads the newest image itself.
 bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
                                     const PixelPoint* engine_points) {
   if (!enabled) {
@@ -178,13 +187,15 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
   // engine's point of its newest update (read by the reprojection).
-  const ReprojectStats st = reprojector.run(reproject_basis, img.slots(points, marks, engine_points),
-                                            out.slots(points_out, marks_out), world_moves);
+  const PixelImage& from = deferred ? *deferred : img;
+  census.clear();  // the gather counts the epochs it moves
+  const ReprojectStats st = reprojector.run(reproject_basis, from.slots(points, marks, engine_points),
+                                            out.slots(points_out, marks_out), world_moves, 3, &census);
+  deferred = nullptr;
   image_moved = true;
   std::swap(img.px, out.px);
   std::swap(points, points_out);
   std::swap(marks, marks_out);
-  recount_epochs(img);
   ReprojectTotals& t = reproject_totals;
   ++t.reprojections;
   t.moved += st.moved;

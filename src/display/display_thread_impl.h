@@ -33,8 +33,6 @@ struct FilteredShow {
 
 struct DisplayThread::Impl {
   static constexpr uint32_t kNew = 4;  // marks an unconsumed image in `middle`
-  // Epochs tracked for coverage (older ones are never newest).
-  static constexpr uint32_t kEpochRing = 4096;
   static constexpr size_t kIntervalsKept = 1024;
 
   Impl(Engine& e, const DisplayConfig& c) : engine(e), config(c) {}
@@ -58,7 +56,7 @@ struct DisplayThread::Impl {
   // blended twice. One array for the three buffers (each is brought up to the newest image before
   // a tick blends into it); apart from the pixels, so reprojection leaves it where it is.
   std::vector<uint32_t> shown_seq;
-  std::vector<uint32_t> epoch_tag, epoch_count;  // coverage: pixels currently showing each epoch
+  EpochCensus census;     // coverage: pixels currently showing each epoch
   ChangeHistory history;  // what the last ticks changed
   // Reprojection: the camera the image was last moved to (epoch 0: none yet) and scratch.
   // image_moved: the image was moved since reprojection (re)started; until then it shows its
@@ -68,6 +66,9 @@ struct DisplayThread::Impl {
   CameraBasis reproject_basis;
   Reprojector reprojector;
   PixelImage reprojected;
+  // A full copy catch_up left for later: the back buffer is a stale copy of `deferred` (the
+  // newest image), which a reprojection this tick reads directly instead; else it is copied.
+  const PixelImage* deferred = nullptr;
   // Reprojection's marks by pixel and, for marked pixels (content moved there), their points; an
   // unmarked pixel's point is the engine's. The display thread's alone, so outside the triple
   // buffer; with the reprojection's output for them.
@@ -108,24 +109,6 @@ struct DisplayThread::Impl {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   }
 
-  // Moves one pixel's epoch from `from` to `to` in the coverage counts.
-  void count_epoch(uint32_t from, uint32_t to) {
-    if (from == to) return;
-    if (from != 0 && epoch_tag[from % kEpochRing] == from) --epoch_count[from % kEpochRing];
-    if (epoch_tag[to % kEpochRing] != to) {
-      epoch_tag[to % kEpochRing] = to;
-      epoch_count[to % kEpochRing] = 0;
-    }
-    ++epoch_count[to % kEpochRing];
-  }
-
-  // Recounts the coverage from scratch (after reprojection moved epochs around).
-  void recount_epochs(const PixelImage& img) {
-    epoch_tag.assign(kEpochRing, 0);
-    epoch_count.assign(kEpochRing, 0);
-    for (const DisplayPixel& p : img.px)
-      if (p.epoch != 0) count_epoch(0, p.epoch);
-  }
   bool reproject(PixelImage& img, bool enabled, float budget, bool world_moves,
                  const PixelPoint* engine_points);
   // Forgets what reprojection knew of the image (its points, marks and camera).
@@ -138,6 +121,7 @@ struct DisplayThread::Impl {
 
   FrameInfo run_tick(double interval);
   bool catch_up(const CollectResult& r);
+  void finish_catch_up(PixelImage& img);
   void publish();
   void thread_main();
 };

@@ -188,7 +188,7 @@ size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
 #endif
 
 ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
-                                const SlotImage& to, bool world_moves, int max_fill) {
+                                const SlotImage& to, bool world_moves, int max_fill, EpochCensus* census) {
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
   key_.assign(n, kHole);
@@ -310,6 +310,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
       const uint32_t ts = to.slot(t), s = from.slot(source);
       to.px[ts] = from.px[s];
+      if (census) census->add(to.px[ts].epoch);
       to.points[t] = point;
       to.marks[t] = mark;
       ++by_mark[mark];

@@ -105,8 +105,10 @@ class Reprojector {
   // of its unmarked pixels.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).
+  // `census` (optional, cleared by the caller): counts the epochs of the pixels `to` shows.
   ReprojectStats run(const CameraBasis& after, const SlotImage& from,
-                     const SlotImage& to, bool world_moves = true, int max_fill = 3);
+                     const SlotImage& to, bool world_moves = true, int max_fill = 3,
+                     EpochCensus* census = nullptr);
 
   // How disocclusions find the farthest content near them: one window per hole, or by rows
   // (cheaper than the scalar window for many holes); automatic takes the vector window where

@@ -77,6 +77,13 @@ struct PixelImage {
             layout ? layout->slot_of.data() : nullptr,
             px.data(),   points.data(), marks.data(), engine_points};
   }
+  // The same as a reprojection's source, which reads the pixels only (the newest image stays
+  // as it is for its readers).
+  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
+                  const PixelPoint* engine_points) const {
+    SlotImage s = const_cast<PixelImage*>(this)->slots(points, marks, engine_points);
+    return s;
+  }
 };
 
 // Writes the layers of slot `s` of `src` into pixel i of `dst`.

@@ -15,7 +15,9 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  if (d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points)) {
+  const bool moved = d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points);
+  d.finish_catch_up(*image);
+  if (moved) {
     full = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
@@ -42,7 +44,7 @@ inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u, bool guess) 
   const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]),
                              guess ? 0u : m.epoch, m.last_update, u, &bad);
   rejected += bad;
-  d.count_epoch(m.epoch, u.epoch);
+  d.census.move(m.epoch, u.epoch);
   m.rgb[0] = c.x;
   m.rgb[1] = c.y;
   m.rgb[2] = c.z;

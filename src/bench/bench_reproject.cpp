@@ -1,0 +1,118 @@
+// `frameless bench reproject`: reprojection alone, per camera change (see bench_reproject.h).
+#include "bench/bench_reproject.h"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_options.h"
+#include "bench/bench_report.h"
+#include "display/camera_controls.h"
+#include "display/reproject.h"
+#include "frameless/partition.h"
+
+namespace frameless::bench {
+namespace {
+
+// Each pixel's primary hit, as a render thread leaves it (display/reproject.h's points).
+std::vector<ScenePoint> primary_points(const Scene& scene, const Camera& camera, int w, int h) {
+  std::vector<ScenePoint> points(size_t(w) * size_t(h));
+  const CameraBasis b = make_camera_basis(camera, w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Ray r = camera_ray(b, float(x) + 0.5f, float(y) + 0.5f);
+      Hit hit;
+      ScenePoint& p = points[size_t(y) * size_t(w) + size_t(x)];
+      if (scene.accel.intersect(r, hit)) p.p = r.org + hit.t * r.dir, p.object = kPointStatic;
+      else p.p = r.dir, p.object = kPointSky;
+    }
+  return points;
+}
+
+struct Timing {
+  double median_ms = 0, best_ms = 0;
+  double moved = 0, disoccluded = 0;  // fractions of the pixels at the last change
+};
+
+// `changes` reprojections along the orbit, the image moved each time (as the display does).
+Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h,
+                    const uint32_t* pixel_of, const uint32_t* slot_of, std::vector<ScenePoint> points) {
+  const size_t n = size_t(w) * size_t(h);
+  std::vector<DisplayPixel> px(n), px_out(n);
+  std::vector<ScenePoint> points_out(n);
+  std::vector<uint8_t> marks(n, kMarkMoved), marks_out(n);
+  for (size_t s = 0; s < n; ++s) px[s].epoch = 1;
+  Reprojector r;
+  EpochCensus census;
+  std::vector<double> ms;
+  Camera camera = start;
+  ReprojectStats last;
+  for (int k = 0; k < o.changes + 2; ++k) {  // two untimed: first touches of the scratch memory
+    camera = orbit_camera(camera, float(o.degrees / CameraControlConfig{}.orbit_deg_per_pixel), 0.0f);
+    const SlotImage from{w, h, pixel_of, slot_of, px.data(), points.data(), marks.data(), nullptr};
+    const SlotImage to{w, h, pixel_of, slot_of, px_out.data(), points_out.data(), marks_out.data(), nullptr};
+    const auto t0 = std::chrono::steady_clock::now();
+    census.clear();
+    const ReprojectStats st = r.run(make_camera_basis(camera, w, h), from, to, true, 3, &census);
+    const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    last = st;
+    if (k >= 2) ms.push_back(t);
+    px.swap(px_out), points.swap(points_out), marks.swap(marks_out);
+  }
+  Timing out;
+  out.median_ms = median(ms);
+  out.best_ms = *std::min_element(ms.begin(), ms.end());
+  out.moved = double(last.moved) / double(n);
+  out.disoccluded = double(last.disoccluded) / double(n);
+  return out;
+}
+
+}  // namespace
+
+int run_reproject(const ReprojectOptions& o) {
+  std::string error;
+  int w = 0, h = 0;
+  if (!parse_size(o.size, w, h, error)) return report_error(error);
+  if (!(o.threads >= 1 && o.threads <= 256)) return report_error("--threads: must be 1..256");
+  if (!(o.changes >= 1 && o.changes <= 10000)) return report_error("--changes: must be 1..10000");
+  if (!(o.degrees > 0 && o.degrees <= 45)) return report_error("--degrees: must be in (0, 45]");
+  if (o.order != "both" && o.order != "slots" && o.order != "pixels")
+    return report_error("--order: expected slots, pixels or both, got '" + o.order + "'");
+  std::unique_ptr<Scene> scene = load_scene_or_report(o.scene, nullptr);
+  if (!scene) return 2;
+  PartitionConfig pc;
+  pc.width = w, pc.height = h, pc.threads = o.threads;
+  const Partition part = make_partition(pc);
+  std::vector<uint32_t> pixel_of, slot_of(size_t(w) * size_t(h));
+  for (const std::vector<uint32_t>& list : part.pixels) pixel_of.insert(pixel_of.end(), list.begin(), list.end());
+  for (size_t s = 0; s < pixel_of.size(); ++s) slot_of[pixel_of[s]] = uint32_t(s);
+  const std::vector<ScenePoint> points = primary_points(*scene, scene->camera, w, h);
+  Timing slots, pixels;
+  if (o.order != "pixels") slots = time_changes(scene->camera, o, w, h, pixel_of.data(), slot_of.data(), points);
+  if (o.order != "slots") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
+  const double px = double(w) * double(h);
+  if (o.json) {
+    nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
+                        {"degrees", o.degrees}, {"changes", o.changes}};
+    for (const auto& [name, t] : {std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
+      if (t.median_ms > 0)
+        j[name] = {{"median_ms", t.median_ms}, {"best_ms", t.best_ms}, {"ns_per_pixel", 1e6 * t.median_ms / px},
+                   {"moved_fraction", t.moved}, {"disoccluded_fraction", t.disoccluded}};
+    std::printf("%s\n", j.dump(1).c_str());
+    return 0;
+  }
+  std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d\n",
+              o.scene.c_str(), w, h, o.degrees, o.changes);
+  for (const auto& [name, t] : {std::pair{"slot order (the display's)", slots}, std::pair{"pixel order", pixels}})
+    if (t.median_ms > 0)
+      std::printf("  %-27s %6.2f ms (best %.2f), %5.1f ns a pixel, %3.0f %% of a core at 30 changes/s; "
+                  "%.1f %% moved, %.2f %% disoccluded\n",
+                  name, t.median_ms, t.best_ms, 1e6 * t.median_ms / px, 3.0 * t.median_ms, 100.0 * t.moved,
+                  100.0 * t.disoccluded);
+  return 0;
+}
+
+}  // namespace frameless::bench

@@ -1,0 +1,42 @@
+// `frameless bench reproject --json` end to end on a small image: both orders measured, the
+// image moved as an orbit of half a degree moves it (most pixels land somewhere, few are
+// uncovered; 1280x720 gives 78 % and 4 %), bad arguments one line each. (No timing is asserted.)
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_test_util.h"
+
+namespace frameless::test {
+namespace {
+
+TEST(BenchReprojectCli, JsonReportsBothOrdersAndAPlausibleMove) {
+  const CommandResult r = run_frameless("bench reproject default --size 160x90 --changes 3 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.output;
+  for (const char* order : {"slot_order", "pixel_order"}) {
+    ASSERT_TRUE(j.contains(order)) << r.output;
+    EXPECT_GT(j[order]["median_ms"].get<double>(), 0.0);
+    EXPECT_GT(j[order]["moved_fraction"].get<double>(), 0.5) << r.output;  // the rest: cracks closed, a band uncovered
+    EXPECT_LT(j[order]["disoccluded_fraction"].get<double>(), 0.2) << r.output;
+  }
+  // The order changes where pixels live, not what moves where.
+  EXPECT_EQ(j["slot_order"]["moved_fraction"], j["pixel_order"]["moved_fraction"]);
+  const CommandResult one = run_frameless("bench reproject default --size 160x90 --changes 2 --order pixels --json");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_FALSE(nlohmann::json::parse(one.output).contains("slot_order"));
+}
+
+TEST(BenchReprojectCli, BadArgumentsAreOneLine) {
+  for (const char* args : {"bench reproject --order diagonal", "bench reproject --changes 0",
+                           "bench reproject --degrees 90", "bench reproject --size 0x5",
+                           "bench reproject no_such_scene.json"}) {
+    const CommandResult r = run_frameless(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace frameless::test

@@ -1,0 +1,28 @@
+// `frameless bench reproject`: its flags; the benchmark is bench::run_reproject
+// (src/bench/bench_reproject.h).
+#include <memory>
+
+#include "bench/bench_reproject.h"
+#include "tools/command_registry.h"
+
+namespace frameless::cli {
+namespace {
+
+const bool registered = register_command(
+    "bench", "reproject",
+    "The display's reprojection alone, per camera change, in slot and in pixel order",
+    [](CLI::App& app) {
+      auto args = std::make_shared<bench::ReprojectOptions>();
+      app.add_option("scene", args->scene, "Scene whose primary hits are moved")->capture_default_str();
+      app.add_option("--size", args->size, "Image size WxH")->capture_default_str();
+      app.add_option("--threads", args->threads, "Render threads whose slot order the image is kept in")
+          ->capture_default_str();
+      app.add_option("--degrees", args->degrees, "Orbit per camera change")->capture_default_str();
+      app.add_option("--changes", args->changes, "Timed camera changes per order (median)")->capture_default_str();
+      app.add_option("--order", args->order, "slots, pixels or both")->capture_default_str();
+      app.add_flag("--json", args->json, "Print JSON instead of text");
+      return [args]() { return bench::run_reproject(*args); };
+    });
+
+}  // namespace
+}  // namespace frameless::cli
