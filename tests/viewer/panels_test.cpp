@@ -80,6 +80,26 @@ TEST(Panels, BadControlValuesAreOneLineEachAndTheViewerGoesOn) {
     EXPECT_NE(log.find(line), std::string::npos) << line << "\n" << log;
 }
 
+// Where ImGui is not wanted (or cannot run) the viewer keeps its keys and overlay: a script that
+// opens a panel says so in one line, and the controls still work.
+TEST(Panels, WithoutPanelsTheOverlayAndControlsRemain) {
+  if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
+  const fs::path dir = folder("none");
+  const fs::path plain = dir / "plain.exr", red = dir / "red.exr";
+  std::string log;
+  const int status = run_viewer_script(
+      "default --size 160x100 --threads 2 --no-panels",
+      "0.3 panel lights\n0.4 key TAB\n1.5 screenshot " + plain.string() + "\n1.6 set light0.color 1 0.05 0.05\n" +
+          "3.2 screenshot " + red.string() + "\n3.3 quit\n",
+      dir, &log);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_NE(log.find("script.txt:1: panel: the panels are not available here"), std::string::npos) << log;
+  EXPECT_NE(log.find("(0 with panels)"), std::string::npos) << log;  // none drawn, Tab or not
+  const ExrImage a = screenshot(plain, log), b = screenshot(red, log);
+  EXPECT_GT(channel_mean(b, "R", 0, b.width) / channel_mean(b, "B", 0, b.width),
+            1.3 * channel_mean(a, "R", 0, a.width) / channel_mean(a, "B", 0, a.width));
+}
+
 TEST(Panels, ScriptsNamingPanelsAndControlsAreChecked) {
   auto ok = parse_viewer_script("0 panel volumes\n1 set light0.color 1 0 0\n2 open x.obj\n", "s.txt");
   ASSERT_TRUE(ok.ok()) << ok.error().message;
