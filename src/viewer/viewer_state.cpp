@@ -54,10 +54,17 @@ void Viewer::stop_session() {
 
 void Viewer::rebuild(const std::string& what, const std::function<void(Scene&, EngineConfig&)>& edit) {
   if (!may_rebuild()) return;
+  const WorldState kept = world;  // lights, materials and objects as edited so far
   stop_session();
   edit(*editable, engine_config);
   reference.reset();  // another picture now
   start_session();
+  // The new engine starts from the scene's own world: the edits carry over.
+  if (kept.lights.size() == world.lights.size() && kept.materials.size() == world.materials.size() &&
+      kept.object_position.size() == world.object_position.size()) {
+    world = kept;
+    publish_world();
+  }
   status = what + " (render threads restarted)";
   std::fprintf(stderr, "frameless: %s\n", status.c_str());
 }

@@ -139,6 +139,24 @@ TEST(Panels, SceneSettingsAndOpeningAFileRestartTheSession) {
   EXPECT_NE(log.find("opened " + mesh), std::string::npos) << log;
 }
 
+// A restart (here: hard shadows) keeps what the panels changed in the world (a light's colour).
+TEST(Panels, EditsSurviveARestart) {
+  if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
+  const fs::path dir = folder("survive");
+  const fs::path before = dir / "before.exr", after = dir / "after.exr";
+  std::string log;
+  const int status = run_viewer_script(
+      "default --size 160x100 --threads 2",
+      "0.1 key O\n1.2 screenshot " + before.string() + "\n1.3 set light0.color 0.05 0.05 1\n" +
+          "1.4 set shadows hard\n3.2 screenshot " + after.string() + "\n3.3 quit\n",
+      dir, &log);
+  ASSERT_EQ(status, 0) << log;
+  ASSERT_NE(log.find("shadows hard (render threads restarted)"), std::string::npos) << log;
+  const ExrImage a = screenshot(before, log), b = screenshot(after, log);
+  auto ratio = [](const ExrImage& e) { return channel_mean(e, "B", 0, e.width) / channel_mean(e, "R", 0, e.width); };
+  EXPECT_GT(ratio(b), 1.3 * ratio(a)) << ratio(a) << " -> " << ratio(b);  // still blue after the restart
+}
+
 TEST(Panels, TransferFunctionControlsChangeTheVolume) {
   if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
   const fs::path dir = folder("volume");
