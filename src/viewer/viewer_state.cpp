@@ -26,6 +26,15 @@ bool Viewer::may_rebuild() {
   return false;
 }
 
+// The scene is about to change: a reference being rendered is waited for (it reads the scene)
+// and thrown away with the one in use (another picture now).
+void Viewer::drop_reference() {
+  if (reference_job.valid()) reference_job.wait();
+  reference_job = {};
+  reference.reset();
+  rates.error.clear();
+}
+
 void Viewer::start_session() {
   engine = std::make_unique<Engine>(*scene, engine_config, camera);
   display = std::make_unique<DisplayThread>(*engine, display_config);
@@ -40,7 +49,7 @@ void Viewer::start_session() {
 }
 
 void Viewer::stop_session() {
-  if (reference_job.valid()) reference_job.wait();  // it reads the scene
+  drop_reference();  // its job reads the scene
   if (!engine) return;
   display_config = display->config();
   display->stop();
@@ -57,7 +66,6 @@ void Viewer::rebuild(const std::string& what, const std::function<void(Scene&, E
   const WorldState kept = world;  // lights, materials and objects as edited so far
   stop_session();
   edit(*editable, engine_config);
-  reference.reset();  // another picture now
   start_session();
   // The new engine starts from the scene's own world: the edits carry over.
   if (kept.lights.size() == world.lights.size() && kept.materials.size() == world.materials.size() &&
@@ -85,7 +93,6 @@ void Viewer::open_scene(const std::string& path) {
   camera = home = scene->camera;
   grabbed = -1;
   playing = {};
-  reference.reset();
   start_session();
   glfwSetWindowTitle(window, ("frameless - " + path).c_str());
   status = "opened " + path;
@@ -117,13 +124,12 @@ void Viewer::publish_world() {
 // every pixel restarts (the same camera, published again, is a new epoch).
 void Viewer::edit_volumes(const std::function<std::string(Scene&)>& edit) {
   if (!may_rebuild()) return;
-  if (reference_job.valid()) reference_job.wait();
+  drop_reference();
   engine->stop();
   status = edit(*editable);
   std::fprintf(stderr, "frameless: %s\n", status.c_str());
   engine->start();
   engine->publish_camera(camera);
-  reference.reset();
   dirty = true;
 }
 

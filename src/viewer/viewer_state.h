@@ -97,6 +97,7 @@ struct Viewer {
   void stop_capture();
   void capture_frame();
   void request_reference(int spp);
+  void drop_reference();
   void update_rates();
   void key(int k);
   void grab_or_release();
