@@ -21,6 +21,7 @@ struct PanelState {
   // The volume panel: each grid's histogram (64 bins, log counts), and the transfer function
   // being edited for the selected volume.
   std::map<const void*, std::vector<float>> histograms;
+  const void* volumes_of = nullptr;  // the scene the histograms and points belong to
   std::vector<TransferPoint> points;
   const void* points_of = nullptr;  // the transfer function `points` was copied from
   int dragged_point = -1;           // the point dragged over the histogram (-1: none)

@@ -77,6 +77,12 @@ void apply_points(Viewer& v, PanelState& p, size_t volume) {
 }  // namespace
 
 void volumes_panel(Viewer& v, PanelState& p) {
+  if (p.volumes_of != v.scene) {  // another scene: nothing cached belongs to it
+    p.volumes_of = v.scene;
+    p.histograms.clear();
+    p.points_of = nullptr;
+    p.volume = 0;
+  }
   const std::vector<VolumeObject>& volumes = v.scene->volumes;
   if (volumes.empty()) {
     ImGui::TextDisabled("the scene has no volumes");

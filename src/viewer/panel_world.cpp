@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -44,12 +45,12 @@ void lights_panel(Viewer& v, PanelState& p) {
   float intensity = std::max({l.color.x, l.color.y, l.color.z});
   if (ImGui::SliderFloat("intensity", &intensity, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
     const float now = std::max({l.color.x, l.color.y, l.color.z});
-    l.color = now > 0 ? l.color * (intensity / now) : Vec3(intensity);
+    l.color = now > 1e-20f ? l.color * (intensity / now) : Vec3(intensity);
     changed = true;
   }
   l.radius = std::max(0.0f, l.radius);
   l.color = glm::max(l.color, Vec3(0.0f));
-  if (changed) set_light(v, size_t(p.light), l);
+  if (changed && std::isfinite(l.radius) && is_finite(l.color)) set_light(v, size_t(p.light), l);
   ImGui::TextDisabled("arrows and PgUp/PgDn move light 0 too");
 }
 

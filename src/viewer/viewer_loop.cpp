@@ -184,6 +184,7 @@ Result<bool> run_viewer(const Scene& scene, const ViewerOptions& opt) {
       v.pending_w = v.pending_h = 0;
     }
     if (auto e = v.engine->error()) return Error{"render thread failed: " + *e};
+    if (auto e = v.display->error()) return Error{*e};
     v.update_rates();
     bool is_new = false;
     v.display->acquire_latest(&is_new);

@@ -100,13 +100,16 @@ void Viewer::stop_capture() {
 
 // Each display tick's image once (the window may present a tick more than once).
 void Viewer::capture_frame() {
-  const DisplayImage& img = display->acquire_latest();
-  if (capture_dir.empty() || img.info.index == captured_tick) return;
+  bool fresh = false;
+  const DisplayImage& img = display->acquire_latest(&fresh);
+  dirty |= fresh;  // taken here: the loop would not see it as new
+  if (capture_dir.empty() || img.pixels() == 0 || img.info.index == captured_tick) return;
   captured_tick = img.info.index;
   const std::string path = (std::filesystem::path(capture_dir) / capture_frame_name(capture_frames)).string();
   const std::string png = path.substr(0, path.rfind('.')) + ".png";
   if (auto r = write_png(png, img.width, img.height, img.rgb.data()); !r.ok()) {
-    status = r.error().message;
+    status = r.error().message + " (capture stopped after " + std::to_string(capture_frames) + " frames)";
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
     capture_dir.clear();
     return;
   }
@@ -135,6 +138,11 @@ void Viewer::screenshot(const std::string& path) {
 // Renders the current view with `spp` samples on one thread beside the engine (the plots' error).
 void Viewer::request_reference(int spp) {
   if (reference_job.valid()) return;
+  if (world_edited) {  // the reference renders the Scene, which the world channel's edits do not change
+    status = "reference: the lights, materials or objects were edited; it would show the scene as loaded";
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+    return;
+  }
   ReferenceSpec spec;
   spec.camera = reference_camera = camera;
   spec.width = engine->width(), spec.height = engine->height();
@@ -152,13 +160,20 @@ void Viewer::update_rates() {
   if (reference_job.valid() &&
       reference_job.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     auto r = reference_job.get();
-    if (r.ok()) reference = std::make_shared<const Reference>(std::move(r.value()));
-    status = r.ok() ? "reference ready: the error plot compares against it" : r.error().message;
+    if (reference_outdated) {
+      reference_outdated = false;
+      status = "reference dropped: the world changed while it rendered";
+    } else {
+      if (r.ok()) reference = std::make_shared<const Reference>(std::move(r.value()));
+      status = r.ok() ? "reference ready: the error plot compares against it" : r.error().message;
+    }
   }
   if (rates.time >= 0 && t - rates.time < 0.25) return;
   const EngineStats es = engine->stats();
   const DisplayStats ds = display->stats();
-  const DisplayImage& img = display->acquire_latest();
+  bool fresh = false;
+  const DisplayImage& img = display->acquire_latest(&fresh);
+  dirty |= fresh;  // taken here: the loop would not see it as new
   if (rates.time >= 0) {
     const double dt = t - rates.time;
     push_limited(rates.samples_per_s, float(double(es.samples - std::min(es.samples, rates.samples)) / dt));

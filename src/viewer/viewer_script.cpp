@@ -45,6 +45,16 @@ Result<std::vector<ViewerScriptLine>> parse_viewer_script(const std::string& tex
                    (it->second < 0 ? std::string("a control and its values") : std::to_string(it->second) + " arguments")};
     if (l.command == "key" && key_from_name(l.args[0]) < 0)
       return Error{where + "key: unknown key '" + l.args[0] + "'"};
+    if (l.command == "orbit" || l.command == "pan" || l.command == "zoom" || l.command == "fly" ||
+        l.command == "resize")
+      for (const std::string& a : l.args) {
+        char* e = nullptr;
+        const double x = std::strtod(a.c_str(), &e);
+        if (e == a.c_str() || *e || !std::isfinite(x) || std::abs(x) > 1e6)
+          return Error{where + l.command + ": '" + a + "' is not a number (at most 1e6 in size)"};
+        if (l.command == "resize" && !(x >= 1 && x <= 16384 && x == std::floor(x)))
+          return Error{where + "resize: '" + a + "' is not a size in pixels (1..16384)"};
+      }
     if (l.command == "panel" && !is_panel_name(l.args[0]))
       return Error{where + "panel: unknown panel '" + l.args[0] + "' (" + panel_names() + ")"};
     out.push_back(l);

@@ -22,8 +22,17 @@ double Viewer::now() const {
 bool Viewer::may_rebuild() {
   if (!opt.fixed_layout && editable) return true;
   status = opt.fixed_layout ? "cluster: the scene and the layout are fixed" : "this scene cannot be changed here";
+  std::fprintf(stderr, "frameless: %s\n", status.c_str());
   dirty = true;
   return false;
+}
+
+// A reference shows the scene as loaded: an edit of what moves makes it another picture.
+void Viewer::world_changed() {
+  world_edited = true;
+  if (reference_job.valid()) reference_outdated = true;
+  reference.reset();
+  rates.error.clear();
 }
 
 // The scene is about to change: a reference being rendered is waited for (it reads the scene)
@@ -31,6 +40,7 @@ bool Viewer::may_rebuild() {
 void Viewer::drop_reference() {
   if (reference_job.valid()) reference_job.wait();
   reference_job = {};
+  reference_outdated = false;
   reference.reset();
   rates.error.clear();
 }
@@ -45,6 +55,8 @@ void Viewer::start_session() {
   display->start();
   world = engine->world();
   rates = ViewerRates{};
+  world_edited = false;
+  captured_tick = ~uint64_t(0);  // the new display counts its ticks from 0
   dirty = true;
 }
 
@@ -64,11 +76,12 @@ void Viewer::stop_session() {
 void Viewer::rebuild(const std::string& what, const std::function<void(Scene&, EngineConfig&)>& edit) {
   if (!may_rebuild()) return;
   const WorldState kept = world;  // lights, materials and objects as edited so far
+  const bool edited = world_edited;
   stop_session();
   edit(*editable, engine_config);
   start_session();
   // The new engine starts from the scene's own world: the edits carry over.
-  if (kept.lights.size() == world.lights.size() && kept.materials.size() == world.materials.size() &&
+  if (edited && kept.lights.size() == world.lights.size() && kept.materials.size() == world.materials.size() &&
       kept.object_position.size() == world.object_position.size()) {
     world = kept;
     publish_world();
@@ -116,7 +129,14 @@ void Viewer::change_display(const std::function<void(DisplayConfig&)>& f) {
 }
 
 void Viewer::publish_world() {
-  engine->publish_world(world);  // the render threads pick it up at their update percentage
+  try {
+    engine->publish_world(world);  // the render threads pick it up at their update percentage
+    world_changed();
+  } catch (const std::exception& e) {  // a value the world channel refuses: keep the last good one
+    world = engine->world();
+    status = e.what();
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+  }
   dirty = true;
 }
 
@@ -137,7 +157,15 @@ void Viewer::set_instance_translation(uint32_t declared, const Vec3& t) {
   Affine a = engine->instance_transform(declared);
   a.t = t;
   InstanceUpdate u;
-  engine->move_instances({{declared, a}}, &u);
+  try {
+    engine->move_instances({{declared, a}}, &u);
+  } catch (const std::exception& e) {
+    status = e.what();
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+    dirty = true;
+    return;
+  }
+  world_changed();
   char buf[160];
   std::snprintf(buf, sizeof buf, "instance %u moved: top level %s in %.2f ms", declared,
                 u.rebuilt ? "rebuilt" : "refit", u.copy_ms + u.refit_ms + u.rebuild_ms);

@@ -69,6 +69,8 @@ struct Viewer {
   std::future<Result<Reference>> reference_job;
   std::shared_ptr<const Reference> reference;
   Camera reference_camera;
+  bool reference_outdated = false;  // the world changed while the job rendered: drop its result
+  bool world_edited = false;        // lights, materials, objects or instances moved this session
   // Capture from the window: every newly displayed image as PNG into capture_dir.
   std::string capture_dir;
   int capture_frames = 0;
@@ -98,6 +100,7 @@ struct Viewer {
   void capture_frame();
   void request_reference(int spp);
   void drop_reference();
+  void world_changed();
   void update_rates();
   void key(int k);
   void grab_or_release();

@@ -104,7 +104,8 @@ TEST(Panels, ScriptsNamingPanelsAndControlsAreChecked) {
   auto ok = parse_viewer_script("0 panel volumes\n1 set light0.color 1 0 0\n2 open x.obj\n", "s.txt");
   ASSERT_TRUE(ok.ok()) << ok.error().message;
   EXPECT_EQ((*ok)[1].args.size(), 4u);
-  for (const char* bad : {"1 panel nope", "1 set alpha", "1 set", "1 open", "1 panel"}) {
+  for (const char* bad : {"1 panel nope", "1 set alpha", "1 set", "1 open", "1 panel", "1 resize abc 10",
+                          "1 resize 1e10 100", "1 orbit 3 nan", "1 zoom 2x", "1 fly 1 0 0 inf"}) {
     auto r = parse_viewer_script(std::string("0 quit\n") + bad + "\n", "s.txt");
     ASSERT_FALSE(r.ok()) << bad;
     EXPECT_EQ(r.error().message.rfind("s.txt:2: ", 0), 0u) << r.error().message;
@@ -183,8 +184,9 @@ TEST(Panels, SaveCaptureAndCameraPathWriteTheirFiles) {
   std::string log;
   const int status = run_viewer_script(
       "default --size 120x80 --threads 1 --snapshot-dir " + snaps.string(),
+      // The capture goes on across a restart of the session (hard shadows: a new engine and display).
       "0.5 set save png\n0.6 set save exr\n0.7 set capture on\n0.8 orbit 40 0\n1.0 orbit 40 0\n"
-      "1.8 set capture off\n1.9 set camera.save " + path.string() + "\n2.0 quit\n",
+      "1.2 set shadows hard\n2.2 set capture off\n2.3 set camera.save " + path.string() + "\n2.4 quit\n",
       dir, &log);
   ASSERT_EQ(status, 0) << log;
   EXPECT_TRUE(fs::exists(snaps / "snapshot_000.png")) << log;
@@ -195,6 +197,7 @@ TEST(Panels, SaveCaptureAndCameraPathWriteTheirFiles) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(log, m, std::regex("captured (\\d+) frames"))) << log;
   EXPECT_EQ(std::stoul(m[1]), frames);
+  EXPECT_EQ(log.find("capture stopped"), std::string::npos) << log;
   auto p = load_camera_path(path.string());
   ASSERT_TRUE(p.ok()) << p.error().message;
   EXPECT_GE(p->keyframes.size(), 3u);  // the start and both orbits
@@ -215,6 +218,20 @@ TEST(Panels, ErrorPlotComparesAgainstAReferenceOfTheView) {
   EXPECT_GE(std::stoul(m[3]), 4u);
   EXPECT_LT(std::stod(m[2]), 0.05) << log;  // a converged image is close to the reference
   EXPECT_GT(std::stod(m[2]), 0.0) << log;   // measured, not a constant (a black reference gives ~0.5)
+}
+
+// A reference renders the scene as loaded: after an edit of the world it is refused in one line,
+// and one being rendered when the world changes is dropped.
+TEST(Panels, AReferenceIsNeverComparedWithAnEditedWorld) {
+  if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
+  const fs::path dir = folder("stale");
+  std::string log;
+  const int status = run_viewer_script(
+      "default --size 96x64 --threads 1",
+      "0.05 set reference 16\n0.06 set light0.color 1 0.2 0.2\n1.5 set reference 16\n3.0 quit\n", dir, &log);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_NE(log.find("reference: the lights, materials or objects were edited"), std::string::npos) << log;
+  EXPECT_EQ(log.find("RMSE against the reference"), std::string::npos) << log;  // nothing compared
 }
 
 // Dropping a volume file on the window opens it as a scene of its own.
