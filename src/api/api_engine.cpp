@@ -30,6 +30,13 @@ namespace {
 
 Result<bool> fail(std::string message) { return Result<bool>::failure(std::move(message)); }
 
+// Publishes `w` after the world's own check (core/scene/dynamic.h): its message, or the new epoch.
+Result<bool> publish(::frameless::Engine& engine, const ::frameless::Scene& scene, const WorldState& w) {
+  if (const std::string p = world_problem(w, initial_world(scene)); !p.empty()) return fail(p);
+  engine.publish_world(w);
+  return true;
+}
+
 std::string options_problem(const EngineOptions& o) {
   if (o.width < 0 || o.height < 0 || o.width > 16384 || o.height > 16384) return "size: width and height must be 1..16384";
   if (o.threads < 0 || o.threads > 1024) return "threads: must be 0 (all cores) to 1024";
@@ -95,22 +102,18 @@ Result<bool> Engine::set_light(int index, const Light& light) {
   WorldState w = impl_->engine->world();
   if (index < 0 || size_t(index) >= w.lights.size())
     return fail("light " + std::to_string(index) + ": the scene has " + std::to_string(w.lights.size()) + " lights");
-  for (float v : {light.position[0], light.position[1], light.position[2], light.color[0], light.color[1], light.color[2], light.radius})
-    if (!std::isfinite(v)) return fail("light " + std::to_string(index) + ": every number must be finite");
-  if (light.color[0] < 0 || light.color[1] < 0 || light.color[2] < 0 || light.radius < 0)
-    return fail("light " + std::to_string(index) + ": colour and radius must be >= 0");
   ::frameless::Light& l = w.lights[size_t(index)];
   const ::frameless::Vec3 p(light.position[0], light.position[1], light.position[2]);
   if (l.kind == LightKind::kDirectional) {
-    if (!(glm::length(p) > 0.0f)) return fail("light " + std::to_string(index) + ": a direction must not be zero");
+    if (!(glm::length(p) > 0.0f) || !is_finite(p))
+      return fail("light " + std::to_string(index) + ": a direction must be finite and not zero");
     l.direction = glm::normalize(p);
   } else {
     l.position = p;
   }
   l.color = ::frameless::Vec3(light.color[0], light.color[1], light.color[2]);
   l.radius = light.radius;
-  impl_->engine->publish_world(w);
-  return true;
+  return publish(*impl_->engine, *impl_->scene, w);
 }
 
 Result<bool> Engine::set_material_color(const std::string& name, const Vec3& kd) {
@@ -119,12 +122,9 @@ Result<bool> Engine::set_material_color(const std::string& name, const Vec3& kd)
   size_t i = 0;
   while (i < mats.size() && mats[i].name != name) ++i;
   if (i == mats.size()) return fail("material '" + name + "': no such material in the scene");
-  if (!(kd[0] >= 0 && kd[1] >= 0 && kd[2] >= 0 && std::isfinite(kd[0] + kd[1] + kd[2])))
-    return fail("material '" + name + "': colour components must be finite and >= 0");
   WorldState w = impl_->engine->world();
   w.materials[i].kd = ::frameless::Vec3(kd[0], kd[1], kd[2]);
-  impl_->engine->publish_world(w);
-  return true;
+  return publish(*impl_->engine, *impl_->scene, w);
 }
 
 Result<bool> Engine::set_object_position(int index, const Vec3& center) {
@@ -133,10 +133,8 @@ Result<bool> Engine::set_object_position(int index, const Vec3& center) {
   if (index < 0 || size_t(index) >= w.object_position.size())
     return fail("object " + std::to_string(index) + ": the scene has " + std::to_string(w.object_position.size()) +
                 " moving objects");
-  if (!std::isfinite(center[0] + center[1] + center[2])) return fail("object " + std::to_string(index) + ": position must be finite");
   w.object_position[size_t(index)] = ::frameless::Vec3(center[0], center[1], center[2]);
-  impl_->engine->publish_world(w);
-  return true;
+  return publish(*impl_->engine, *impl_->scene, w);
 }
 
 Result<bool> Engine::set_instance_transform(int index, const std::array<float, 12>& m) {

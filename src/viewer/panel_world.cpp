@@ -3,7 +3,6 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -50,7 +49,7 @@ void lights_panel(Viewer& v, PanelState& p) {
   }
   l.radius = std::max(0.0f, l.radius);
   l.color = glm::max(l.color, Vec3(0.0f));
-  if (changed && std::isfinite(l.radius) && is_finite(l.color)) set_light(v, size_t(p.light), l);
+  if (changed) (void)set_light(v, size_t(p.light), l);  // a refusal is in the status line
   ImGui::TextDisabled("arrows and PgUp/PgDn move light 0 too");
 }
 
@@ -66,14 +65,14 @@ void materials_panel(Viewer& v, PanelState& p) {
   changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
   m.kd = glm::max(m.kd, Vec3(0.0f)), m.ks = glm::max(m.ks, Vec3(0.0f)), m.kh = glm::max(m.kh, Vec3(0.0f));
   m.emission = glm::max(m.emission, Vec3(0.0f)), m.phong_exponent = std::max(m.phong_exponent, 0.0f);
-  if (changed) set_material(v, i, m);
+  if (changed) (void)set_material(v, i, m);  // a refusal is in the status line
 }
 
 void objects_panel(Viewer& v, PanelState& p) {
   ImGui::TextUnformatted("moving objects");
   if (pick("object", p.object, v.world.object_position.size())) {
     Vec3 pos = v.world.object_position[size_t(p.object)];
-    if (ImGui::DragFloat3("position##object", &pos.x, step(v))) set_object_position(v, size_t(p.object), pos);
+    if (ImGui::DragFloat3("position##object", &pos.x, step(v))) (void)set_object_position(v, size_t(p.object), pos);
   }
   ImGui::Separator();
   ImGui::TextUnformatted("instances");

@@ -56,6 +56,12 @@ bool indexed(const std::string& name, std::string& kind, size_t& index, std::str
 
 Vec3 vec(const std::vector<float>& f) { return Vec3(f[0], f[1], f[2]); }
 
+// A world edit's refusal under the control's name ("light0.color: light 0: colour must be ...").
+Result<bool> named(const std::string& name, Result<bool> r) {
+  if (!r.ok()) return Error{name + ": " + r.error().message};
+  return true;
+}
+
 // "NAME: the scene has 1 light" / "... 3 lights".
 Error too_few(const std::string& name, size_t n, const char* what) {
   return Error{name + ": the scene has " + std::to_string(n) + " " + what + (n == 1 ? "" : "s")};
@@ -124,8 +130,7 @@ Result<bool> apply_world(Viewer& v, const std::string& name, const std::string& 
     else if (field == "color") l.color = vec(f.value());
     else if (field == "radius") l.radius = f.value()[0];
     else return Error{name + ": unknown light field (position, color, radius)"};
-    if (l.radius < 0 || l.color.x < 0 || l.color.y < 0 || l.color.z < 0) return Error{name + ": must not be negative"};
-    set_light(v, i, l);
+    return named(name, set_light(v, i, l));
   } else if (kind == "material") {
     if (i >= v.world.materials.size()) return too_few(name, v.world.materials.size(), "material");
     if (!f.ok()) return f.error();
@@ -136,14 +141,12 @@ Result<bool> apply_world(Viewer& v, const std::string& name, const std::string& 
     else if (field == "emission") m.emission = vec(f.value());
     else if (field == "phong") m.phong_exponent = f.value()[0];
     else return Error{name + ": unknown material field (kd, ks, kh, phong, emission)"};
-    if (glm::any(glm::lessThan(glm::min(glm::min(m.kd, m.ks), glm::min(m.kh, m.emission)), Vec3(0.0f))) || m.phong_exponent < 0)
-      return Error{name + ": must not be negative"};
-    set_material(v, i, m);
+    return named(name, set_material(v, i, m));
   } else if (kind == "object") {
     if (i >= v.world.object_position.size()) return too_few(name, v.world.object_position.size(), "moving object");
     if (field != "position") return Error{name + ": unknown object field (position)"};
     if (!f.ok()) return f.error();
-    set_object_position(v, i, vec(f.value()));
+    return named(name, set_object_position(v, i, vec(f.value())));
   } else if (kind == "instance") {
     if (i >= v.scene->geometry.instances.size()) return too_few(name, v.scene->geometry.instances.size(), "instance");
     if (field != "translation") return Error{name + ": unknown instance field (translation)"};
@@ -197,19 +200,19 @@ void set_closed_loop(Viewer& v, bool on) {
   v.rebuild(on ? "closed loop on" : "closed loop off", [on](Scene&, EngineConfig& c) { c.closed_loop = on; });
 }
 
-void set_light(Viewer& v, size_t index, const Light& light) {
+Result<bool> set_light(Viewer& v, size_t index, const Light& light) {
   v.world.lights[index] = light;
-  v.publish_world();
+  return v.publish_world();
 }
 
-void set_material(Viewer& v, size_t index, const MaterialParams& material) {
+Result<bool> set_material(Viewer& v, size_t index, const MaterialParams& material) {
   v.world.materials[index] = material;
-  v.publish_world();
+  return v.publish_world();
 }
 
-void set_object_position(Viewer& v, size_t index, const Vec3& position) {
+Result<bool> set_object_position(Viewer& v, size_t index, const Vec3& position) {
   v.world.object_position[index] = position;
-  v.publish_world();
+  return v.publish_world();
 }
 
 void set_isovalue(Viewer& v, size_t volume, float isovalue) {

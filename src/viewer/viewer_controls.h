@@ -17,10 +17,11 @@ void set_integrator(Viewer& v, Integrator integrator);
 void set_shadows(Viewer& v, ShadowMode mode);
 void set_accel(Viewer& v, AccelKind kind);
 void set_closed_loop(Viewer& v, bool on);
-// Lights, materials and moving objects: through the world channel (render threads never wait).
-void set_light(Viewer& v, size_t index, const Light& light);
-void set_material(Viewer& v, size_t index, const MaterialParams& material);
-void set_object_position(Viewer& v, size_t index, const Vec3& position);
+// Lights, materials and moving objects: through the world channel (render threads never wait);
+// a value the world refuses (core/scene/dynamic.h's world_problem) changes nothing.
+Result<bool> set_light(Viewer& v, size_t index, const Light& light);
+Result<bool> set_material(Viewer& v, size_t index, const MaterialParams& material);
+Result<bool> set_object_position(Viewer& v, size_t index, const Vec3& position);
 // Volumes (render threads stop while the scene changes).
 void set_isovalue(Viewer& v, size_t volume, float isovalue);
 Result<bool> set_transfer(Viewer& v, size_t volume, const std::vector<TransferPoint>& points);

@@ -84,7 +84,7 @@ void Viewer::rebuild(const std::string& what, const std::function<void(Scene&, E
   if (edited && kept.lights.size() == world.lights.size() && kept.materials.size() == world.materials.size() &&
       kept.object_position.size() == world.object_position.size()) {
     world = kept;
-    publish_world();
+    (void)publish_world();  // checked when it was edited
   }
   status = what + " (render threads restarted)";
   std::fprintf(stderr, "frameless: %s\n", status.c_str());
@@ -128,16 +128,17 @@ void Viewer::change_display(const std::function<void(DisplayConfig&)>& f) {
   dirty = true;
 }
 
-void Viewer::publish_world() {
-  try {
-    engine->publish_world(world);  // the render threads pick it up at their update percentage
-    world_changed();
-  } catch (const std::exception& e) {  // a value the world channel refuses: keep the last good one
-    world = engine->world();
-    status = e.what();
-    std::fprintf(stderr, "frameless: %s\n", status.c_str());
-  }
+Result<bool> Viewer::publish_world() {
   dirty = true;
+  if (const std::string p = world_problem(world, initial_world(*scene)); !p.empty()) {
+    world = engine->world();  // keep the last good one
+    status = p;
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+    return Error{p};
+  }
+  engine->publish_world(world);  // the render threads pick it up at their update percentage
+  world_changed();
+  return true;
 }
 
 // Volumes are read by the render threads without a lock: they stop while the scene changes, then

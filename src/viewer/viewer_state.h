@@ -91,7 +91,7 @@ struct Viewer {
   // Edits the panels, keys and script share.
   void set_camera(const Camera& c);
   void change_display(const std::function<void(DisplayConfig&)>& f);
-  void publish_world();
+  Result<bool> publish_world();  // `world` after its check; refused: back to the engine's
   void edit_volumes(const std::function<std::string(Scene&)>& edit);
   void set_instance_translation(uint32_t declared, const Vec3& t);
   void save_image(const std::string& format);  // "exr" (image and layers) or "png" (as shown)

@@ -135,6 +135,9 @@ TEST(Api, AnEngineFollowsCameraLightsAndMaterials) {
   for (int k = 0; k < 8; ++k) ASSERT_TRUE(e->advance());
   EXPECT_LT(e->image().at(16, 16, 2), 0.2f * blue.at(16, 16, 2));
   EXPECT_FALSE(e->set_light(3, Light{}));
+  const Result<bool> negative = e->set_light(0, Light{{0, 0, -6}, {-1, 1, 1}, 0.0f, false});
+  ASSERT_FALSE(negative);
+  EXPECT_NE(negative.error().find("colour must be finite and >= 0"), std::string::npos) << negative.error();
   EXPECT_FALSE(e->set_material_color("nope", {1, 1, 1}));
   // The camera turned away: the ball leaves the middle.
   ASSERT_TRUE(e->set_camera(Camera{{0, 0, 4}, {3, 0, 0}, {0, 1, 0}, 30}));

@@ -67,7 +67,7 @@ TEST(Panels, BadControlValuesAreOneLineEachAndTheViewerGoesOn) {
       "0.5 set light9.color 1 0 0\n0.6 set alpha 2\n0.7 set integrator fast\n"
       "0.8 set camera.load /nonexistent/path.json\n0.9 set volume0.isovalue 1\n"
       "1.0 set material0.kd 1 x 0\n1.1 set camera.fov 0\n1.2 set nothing.here 1\n"
-      "1.3 open /nonexistent/model.obj\n1.6 quit\n",
+      "1.3 open /nonexistent/model.obj\n1.4 set light0.color -1 0 0\n1.6 quit\n",
       dir, &log);
   ASSERT_EQ(status, 0) << log;  // none of them stops the viewer
   const std::string s = (dir / "script.txt").string();
@@ -76,7 +76,8 @@ TEST(Panels, BadControlValuesAreOneLineEachAndTheViewerGoesOn) {
         s + ":3: integrator: expected whitted, path or igi", s + ":4: /nonexistent/path.json: cannot open",
         s + ":5: volume0.isovalue: the scene has 0 volumes", s + ":6: material0.kd: 'x' is not a number",
         s + ":7: camera.fov: the camera would be degenerate", s + ":8: nothing.here: unknown control",
-        std::string("frameless: /nonexistent/model.obj")})
+        std::string("frameless: /nonexistent/model.obj"),
+        s + ":10: light0.color: light 0: colour must be finite and >= 0"})
     EXPECT_NE(log.find(line), std::string::npos) << line << "\n" << log;
 }
 

@@ -40,6 +40,31 @@ void pack_world(const WorldState& w, std::vector<float>& out) {
   }
 }
 
+std::string world_problem(const WorldState& w, const WorldState& shape) {
+  if (w.object_position.size() != shape.object_position.size() || w.lights.size() != shape.lights.size() ||
+      w.materials.size() != shape.materials.size())
+    return "the world does not match the scene (its objects, lights and materials)";
+  const auto ok = [](const Vec3& v, bool non_negative) {
+    return is_finite(v) && (!non_negative || (v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f));
+  };
+  for (size_t i = 0; i < w.object_position.size(); ++i)
+    if (!ok(w.object_position[i], false)) return "object " + std::to_string(i) + ": position must be finite";
+  for (size_t i = 0; i < w.lights.size(); ++i) {
+    const Light& l = w.lights[i];
+    if (!ok(l.position, false) || !ok(l.direction, false)) return "light " + std::to_string(i) + ": position must be finite";
+    if (!ok(l.color, true)) return "light " + std::to_string(i) + ": colour must be finite and >= 0";
+    if (!(l.radius >= 0.0f) || !std::isfinite(l.radius)) return "light " + std::to_string(i) + ": radius must be finite and >= 0";
+  }
+  for (size_t i = 0; i < w.materials.size(); ++i) {
+    const MaterialParams& m = w.materials[i];
+    if (!ok(m.kd, true) || !ok(m.ks, true) || !ok(m.kh, true) || !ok(m.emission, true))
+      return "material " + std::to_string(i) + ": colours and emission must be finite and >= 0";
+    if (!(m.phong_exponent >= 0.0f) || !std::isfinite(m.phong_exponent))
+      return "material " + std::to_string(i) + ": the Phong exponent must be finite and >= 0";
+  }
+  return "";
+}
+
 bool unpack_world(const float* data, size_t n, WorldState& w) {
   const size_t want = w.object_position.size() * kObjectFloats + w.lights.size() * kLightFloats +
                       w.materials.size() * kMaterialFloats;

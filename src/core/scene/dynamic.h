@@ -25,6 +25,11 @@ struct WorldState {
 // The world as a scene declares it (rest positions, its lights and materials).
 WorldState initial_world(const Scene& scene);
 
+// What is wrong with `w` as the world of a scene whose initial world is `shape` (its counts):
+// "" when it is usable, else one line naming the item ("light 2: colour must be finite and >= 0").
+// Every value finite; light colours and radii, material colours, exponents and emission >= 0.
+std::string world_problem(const WorldState& w, const WorldState& shape);
+
 // Floats per object, light and material in the flat form the motion channel carries.
 inline constexpr int kObjectFloats = 3;   // base centre
 inline constexpr int kLightFloats = 7;    // position, colour, radius
