@@ -171,17 +171,18 @@ Image Engine::image() const {
 }
 
 Result<Image> Engine::state(const std::string& layer) const {
+  // The layer picked once, not per pixel.
+  float (*value)(const DisplayImage&, size_t) = nullptr;
+  if (layer == "age") value = [](const DisplayImage& d, size_t i) { return d.age(i); };
+  else if (layer == "count") value = [](const DisplayImage& d, size_t i) { return float(d.sample_count[i]); };
+  else if (layer == "variance") value = [](const DisplayImage& d, size_t i) { return d.variance[i]; };
+  else if (layer == "epoch") value = [](const DisplayImage& d, size_t i) { return float(d.epoch[i]); };
+  else if (layer == "levels") value = [](const DisplayImage& d, size_t i) { return float(d.levels[i]); };
+  else return Result<Image>::failure("state: unknown layer '" + layer + "' (age, count, variance, epoch or levels)");
   std::lock_guard<std::mutex> lock(impl_->mutex);
   const DisplayImage& d = impl_->display->acquire_latest();
   Image out{d.width, d.height, 1, std::vector<float>(d.pixels())};
-  for (size_t i = 0; i < d.pixels(); ++i) {
-    if (layer == "age") out.data[i] = d.age(i);
-    else if (layer == "count") out.data[i] = float(d.sample_count[i]);
-    else if (layer == "variance") out.data[i] = d.variance[i];
-    else if (layer == "epoch") out.data[i] = float(d.epoch[i]);
-    else if (layer == "levels") out.data[i] = float(d.levels[i]);
-    else return Result<Image>::failure("state: unknown layer '" + layer + "' (age, count, variance, epoch or levels)");
-  }
+  for (size_t i = 0; i < d.pixels(); ++i) out.data[i] = value(d, i);
   return out;
 }
 

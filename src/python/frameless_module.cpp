@@ -24,6 +24,16 @@ T unwrap(Result<T>&& r) {
   return std::move(*r);
 }
 
+// Runs a library call without the GIL (it may render for seconds), then unwraps its result with it.
+template <class F>
+auto without_gil(F&& call) {
+  auto r = [&] {
+    py::gil_scoped_release release;
+    return call();
+  }();
+  return unwrap(std::move(r));
+}
+
 // An H x W x C (or H x W for one channel) float32 array over the image's own buffer.
 py::array to_numpy(Image&& image) {
   auto* data = new std::vector<float>(std::move(image.data));
@@ -78,8 +88,7 @@ PYBIND11_MODULE(frameless, m) {
   py::class_<Scene>(m, "Scene", "A loaded scene (immutable; may be shared by renders and engines).")
       .def_static(
           "load", [](const std::string& spec, std::vector<std::string> shader_path) {
-            py::gil_scoped_release release;
-            return unwrap(Scene::load(spec, shader_path));
+            return without_gil([&] { return Scene::load(spec, shader_path); });
           },
           py::arg("spec"), py::arg("shader_path") = std::vector<std::string>{},
           "A built-in name ('default', 'office', ...), a .json scene or a mesh/model file.")
@@ -119,12 +128,7 @@ PYBIND11_MODULE(frameless, m) {
                                  look.is_none() ? py::cast(std::vector<float>(base.look.begin(), base.look.end())) : look,
                                  up, fov > 0 ? fov : base.fov_deg);
         }
-        Result<Image> r = Result<Image>::failure("");
-        {
-          py::gil_scoped_release release;
-          r = render(s, o);
-        }
-        return to_numpy(unwrap(std::move(r)));
+        return to_numpy(without_gil([&] { return render(s, o); }));
       },
       py::arg("scene") = "default", py::arg("size") = py::none(), py::arg("spp") = 0, py::arg("threads") = 0,
       py::arg("eye") = py::none(), py::arg("look") = py::none(), py::arg("up") = py::none(), py::arg("fov") = 0.0f,
@@ -147,12 +151,7 @@ PYBIND11_MODULE(frameless, m) {
         o.orbit_degrees = orbit;
         o.layers = std::move(layers);
         o.contact_sheet = contact_sheet;
-        Result<CaptureInfo> r = Result<CaptureInfo>::failure("");
-        {
-          py::gil_scoped_release release;
-          r = capture(s, o);
-        }
-        const CaptureInfo info = unwrap(std::move(r));
+        const CaptureInfo info = without_gil([&] { return capture(s, o); });
         py::dict d;
         d["frames"] = info.frames;
         d["manifest"] = info.manifest;
@@ -177,12 +176,7 @@ PYBIND11_MODULE(frameless, m) {
         o.seed = seed;
         o.sweeps = sweeps;
         o.shade = shade;
-        Result<UpdateStatistics> r = Result<UpdateStatistics>::failure("");
-        {
-          py::gil_scoped_release release;
-          r = update_statistics(s, o);
-        }
-        const UpdateStatistics u = unwrap(std::move(r));
+        const UpdateStatistics u = without_gil([&] { return update_statistics(s, o); });
         py::dict d;
         d["updates_min"] = u.updates_min;
         d["updates_max"] = u.updates_max;
@@ -222,12 +216,7 @@ PYBIND11_MODULE(frameless, m) {
              o.reproject = reproject;
              o.deterministic = deterministic;
              o.samples_per_tick = samples_per_tick;
-             Result<Engine> r = Result<Engine>::failure("");
-             {
-               py::gil_scoped_release release;
-               r = Engine::start(s, o);
-             }
-             return unwrap(std::move(r));
+             return without_gil([&] { return Engine::start(s, o); });
            }),
            py::arg("scene") = "default", py::arg("mode") = "frameless", py::arg("size") = py::none(),
            py::arg("threads") = 0, py::arg("update_percent") = 1.0, py::arg("alpha") = 0.5,
