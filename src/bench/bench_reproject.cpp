@@ -10,6 +10,7 @@
 
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
+#include "core/shading/render_sample.h"
 #include "display/camera_controls.h"
 #include "display/reproject.h"
 #include "frameless/partition.h"
@@ -17,17 +18,14 @@
 namespace frameless::bench {
 namespace {
 
-// Each pixel's primary hit, as a render thread leaves it (display/reproject.h's points).
+// Each pixel's point as a render thread leaves it: trace_sample's primary hit at the pixel centre.
 std::vector<ScenePoint> primary_points(const Scene& scene, const Camera& camera, int w, int h) {
   std::vector<ScenePoint> points(size_t(w) * size_t(h));
   const CameraBasis b = make_camera_basis(camera, w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Ray r = camera_ray(b, float(x) + 0.5f, float(y) + 0.5f);
-      Hit hit;
-      ScenePoint& p = points[size_t(y) * size_t(w) + size_t(x)];
-      if (scene.accel.intersect(r, hit)) p.p = r.org + hit.t * r.dir, p.object = kPointStatic;
-      else p.p = r.dir, p.object = kPointSky;
+      const SampleResult r = trace_sample(scene, b, float(x) + 0.5f, float(y) + 0.5f, uint64_t(y) * uint64_t(w) + uint64_t(x));
+      points[size_t(y) * size_t(w) + size_t(x)] = ScenePoint{r.position, r.object};
     }
   return points;
 }
