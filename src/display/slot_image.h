@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/base/huge_pages.h"
 #include "display/display_image.h"
 #include "display/display_pixel.h"
 #include "display/reproject.h"
@@ -67,7 +68,7 @@ struct PixelImage {
     width = w;
     height = h;
     layout = std::move(l);
-    px.assign(pixels(), DisplayPixel{});
+    assign_huge(px, pixels(), DisplayPixel{});
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.

@@ -14,6 +14,7 @@
 #include "core/accel/bvh_build.h"
 #include "core/accel/bvh_build_spheres.h"
 #include "core/accel/instance_top.h"
+#include "core/base/huge_pages.h"
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
 
@@ -38,9 +39,11 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   Impl& im = *impl_;
   im.geom = &geom;
   std::vector<Bvh8Node>().swap(im.nodes);  // a rebuild must not hold two trees at its peak
+  rehome_huge(geom.positions);  // rays fetch vertices at random (core/base/huge_pages.h)
   Bvh8 bvh;
   if (geom.num_triangles() == 0 && geom.num_patches() == 0) {
     // Sphere-only geometry: built in place (a sphere is its own bounds), no reference array.
+    rehome_huge(geom.spheres);
     bvh = build_bvh8_spheres(geom.spheres, geom.sphere_material, config);
   } else {
     // References and the leaf-order permutation in parallel chunks, bit for bit the serial

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/accel/bvh_build_split.h"
+#include "core/base/huge_pages.h"
 
 namespace frameless {
 namespace {
@@ -218,7 +219,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
   if (!big) {
     // One serial recursion, straight into the result.
     Builder b(prims, settings);
-    out.nodes.reserve(n / 6 + 1);
+    reserve_huge(out.nodes, n / 6 + 1);
     b.build(out.nodes, root, 1);
     out.depth = b.depth;
     out.leaves = b.leaves;
@@ -232,7 +233,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
       // Serially the subtrees go straight after the top nodes, in task order: the layout the
       // parallel assembly below makes, without the copy.
       out.nodes = std::move(top.nodes);
-      out.nodes.reserve(n / 6 + 1);
+      reserve_huge(out.nodes, n / 6 + 1);
       for (const auto& t : top.tasks) {
         out.nodes[t->parent].child[t->slot] = uint32_t(out.nodes.size());
         Builder b(prims, settings);
@@ -272,6 +273,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
         out.depth = std::max(out.depth, t.depth);
         out.leaves += t.leaves;
       }
+      reserve_huge(out.nodes, total);
       out.nodes.resize(total);
       std::copy(top.nodes.begin(), top.nodes.end(), out.nodes.begin());
       std::vector<Bvh8Node>().swap(top.nodes);
@@ -390,7 +392,9 @@ void permute_geometry(Geometry& g, const PrimRef* refs, size_t n, const AccelCon
   }
   auto gather = [&](auto& v, int kind) {
     if (v.size() != count[kind] || v.empty()) return;  // absent optional array: leave alone
-    std::remove_reference_t<decltype(v)> out(v.size());
+    std::remove_reference_t<decltype(v)> out;
+    reserve_huge(out, v.size());
+    out.resize(v.size());
     for_chunks(n, config, [&](size_t begin, size_t end) {
       uint32_t o = offset[3 * (begin / kChunk) + kind];
       for (size_t i = begin; i < end; ++i)

@@ -17,6 +17,7 @@
 #endif
 
 #include "core/accel/bvh_build_spheres_internal.h"
+#include "core/base/huge_pages.h"
 
 namespace frameless {
 namespace sphere_bvh {
@@ -245,7 +246,7 @@ Bvh8 build(const Prims& prims, uint32_t n, const AccelConfig& config) {
   // reserved exactly and each arena block is released as soon as it is copied.
   size_t total = top.nodes.size();
   for (const auto& t : top.tasks) total += t->arena.size();
-  out.nodes.reserve(total);
+  reserve_huge(out.nodes, total);
   out.depth = top.depth;
   out.leaves = top.leaves;
   size_t offset = top.nodes.size();
