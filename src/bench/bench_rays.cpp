@@ -164,6 +164,21 @@ int run_rays(const RaysOptions& a) {
       bounce_shadow.push_back(s);
     }
   }
+  // Work per ray, the same rays counted once: where a ray's time goes is nodes and primitives.
+  struct Work {
+    double nodes = 0.0, prims = 0.0;
+  };
+  auto work = [&](const std::vector<Ray>& rays, bool any_hit) {
+    TraversalCounts c;
+    for (const Ray& r : rays) {
+      Hit h;
+      if (any_hit) accel.occluded_counted(r, c); else accel.intersect_counted(r, h, c);
+    }
+    const double n = double(std::max<size_t>(rays.size(), 1));
+    return Work{double(c.nodes) / n, double(c.prims) / n};
+  };
+  const Work work_primary = work(primary, false), work_shadow = work(shadow, true),
+             work_bounce = work(bounce, false), work_bounce_shadow = work(bounce_shadow, true);
   std::vector<uint8_t> bounce_occ(bounce_shadow.size());
   std::vector<Hit> bounce_hits(bounce.size());
   Timing b1, bn, bs1, bsn;
@@ -278,6 +293,9 @@ int run_rays(const RaysOptions& a) {
   j["bvh_bytes"] = stats.bytes;
   j["geometry_bytes"] = stats.geometry_bytes;
   j["bytes_per_prim"] = prims ? double(stats.bytes + stats.geometry_bytes) / double(prims) : 0.0;
+  for (const auto& [name, w] : {std::pair<const char*, Work>{"primary", work_primary}, {"shadow", work_shadow},
+                                {"bounce", work_bounce}, {"bounce_shadow", work_bounce_shadow}})
+    j["work_per_ray"][name] = {{"nodes", w.nodes}, {"prims", w.prims}};
   j["nodes"] = stats.nodes;
   j["depth"] = stats.depth;
   j["leaves"] = stats.leaves;
@@ -377,6 +395,10 @@ int run_rays(const RaysOptions& a) {
       "%.1f bytes/prim (BVH %zu + geometry %zu)\n",
       serial_stats.build_ms, stats.build_ms, stats.nodes, stats.depth,
       j["bytes_per_prim"].get<double>(), stats.bytes, stats.geometry_bytes);
+  std::printf("work per ray (8-wide nodes entered / primitives tested): primary %.1f / %.1f, shadow %.1f / %.1f, "
+              "bounce %.1f / %.1f, bounce shadow %.1f / %.1f\n",
+              work_primary.nodes, work_primary.prims, work_shadow.nodes, work_shadow.prims, work_bounce.nodes,
+              work_bounce.prims, work_bounce_shadow.nodes, work_bounce_shadow.prims);
   std::printf("%-28s %12s %12s\n", "Mrays/s (best, 1T: CPU time)", "1 thread",
               (std::to_string(threads) + " threads").c_str());
   auto row = [](const char* name, double one, double many) {
