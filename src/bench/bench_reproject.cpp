@@ -10,7 +10,6 @@
 
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
-#include "core/base/huge_pages.h"
 #include "core/shading/render_sample.h"
 #include "display/camera_controls.h"
 #include "display/reproject.h"
@@ -40,12 +39,8 @@ struct Timing {
 Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h,
                     const uint32_t* pixel_of, const uint32_t* slot_of, std::vector<ScenePoint> points) {
   const size_t n = size_t(w) * size_t(h);
-  std::vector<DisplayPixel> px, px_out;  // in storage advised as the display's is
-  std::vector<ScenePoint> points_out;
-  resize_huge(px, n);
-  resize_huge(px_out, n);
-  resize_huge(points_out, n);
-  rehome_huge(points);
+  std::vector<DisplayPixel> px(n), px_out(n);
+  std::vector<ScenePoint> points_out(n);
   std::vector<uint8_t> marks(n, kMarkMoved), marks_out(n);
   for (size_t s = 0; s < n; ++s) px[s].epoch = 1;
   Reprojector r;

@@ -133,7 +133,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.width = src.width;
     img.height = src.height;
     img.layout = src.layout;
-    resize_huge(img.px, src.px.size());
+    img.px.resize(src.px.size());
     deferred = &src;  // copied by finish_catch_up unless a reprojection reads src instead
     return false;
   }
@@ -160,7 +160,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   }
   if (points.size() != img.pixels()) {  // just turned on, or cleared: nothing shown has a point yet
     reset_reprojection();
-    assign_huge(points, img.pixels(), ScenePoint{});
+    points.assign(img.pixels(), ScenePoint{});
     marks.assign(img.pixels(), kMarkNone);
   }
   uint32_t epoch = 0;
@@ -182,8 +182,8 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   out.height = img.height;
   out.layout = img.layout;
   const size_t n = img.pixels();
-  resize_huge(out.px, n);
-  resize_huge(points_out, n);
+  out.px.resize(n);
+  points_out.resize(n);
   marks_out.resize(n);
   // What each pixel shows: moved content keeps its moved point (marked), a rendered pixel the
   // engine's point of its newest update (read by the reprojection).

@@ -5,8 +5,6 @@
 #include <cstring>
 #include <limits>
 
-#include "core/base/huge_pages.h"
-
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #if defined(__GNUC__) && !defined(__clang__)
@@ -193,7 +191,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill, EpochCensus* census) {
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
-  assign_huge(key_, n, kHole);
+  key_.assign(n, kHole);
   marks_.assign(n, kMarkMoved);
   // Forward splat: each pixel's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays). Points lie on their pixel centre's ray

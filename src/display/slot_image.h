@@ -6,7 +6,6 @@
 #include <memory>
 #include <vector>
 
-#include "core/base/huge_pages.h"
 #include "display/display_image.h"
 #include "display/display_pixel.h"
 #include "display/reproject.h"
@@ -68,7 +67,7 @@ struct PixelImage {
     width = w;
     height = h;
     layout = std::move(l);
-    assign_huge(px, pixels(), DisplayPixel{});
+    px.assign(pixels(), DisplayPixel{});
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <string_view>
 #include <vector>
 
 #if defined(__linux__)
@@ -18,10 +20,21 @@ inline constexpr size_t kHugePage = size_t(2) << 20;
 // Arrays smaller than this keep ordinary pages (a huge page half used is memory wasted).
 inline constexpr size_t kHugeArrayMin = 4 * kHugePage;
 
+// Whether to ask at all: FRAMELESS_HUGE_PAGES=0 in the environment turns the advice off (to
+// measure it, or where a sandbox's memory handles it badly), read once.
+inline bool huge_pages_wanted() {
+  static const bool wanted = [] {
+    const char* e = std::getenv("FRAMELESS_HUGE_PAGES");
+    return !(e && std::string_view(e) == "0");
+  }();
+  return wanted;
+}
+
 // Asks for huge pages on the whole 2 MiB pages inside [data, data + bytes). A hint: where the
 // kernel has them off (or another system), nothing changes.
 inline void advise_huge_pages(const void* data, size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
+  if (!huge_pages_wanted()) return;
   const uintptr_t begin = (uintptr_t(data) + kHugePage - 1) & ~uintptr_t(kHugePage - 1);
   const uintptr_t end = (uintptr_t(data) + bytes) & ~uintptr_t(kHugePage - 1);
   if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
