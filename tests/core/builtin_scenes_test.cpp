@@ -1,4 +1,5 @@
 // Built-in scenes: each loads, is finalized, and has what its description promises.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -89,6 +90,39 @@ TEST(BuiltinScenes, RandomSpheresRejectBadCounts) {
     ASSERT_FALSE(s.ok()) << bad;
     EXPECT_NE(s.error().message.find(bad), std::string::npos) << s.error().message;
   }
+}
+
+TEST(BuiltinScenes, TriangleSoupIsSeededCountedAndOverlapping) {
+  auto a = load_scene("soup:2000");
+  auto b = load_scene("soup:2000:1");
+  auto c = load_scene("soup:2000:7");
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  const Geometry& g = (*a)->geometry;
+  ASSERT_EQ(g.num_triangles(), 2000u);
+  EXPECT_EQ(g.positions.size(), 6000u);
+  EXPECT_EQ(g.positions, (*b)->geometry.positions);  // seed 1 is the default
+  EXPECT_NE(g.positions, (*c)->geometry.positions);
+  // Each triangle lies within one unit of its centre on every axis, the centres fill a cube of
+  // side cbrt(N) = 12.6: triangles overlap their neighbours.
+  Vec3 lo, hi;
+  ASSERT_TRUE(geometry_bounds(g, lo, hi));
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GT(hi[a] - lo[a], 12.0f);
+    EXPECT_LT(hi[a] - lo[a], 14.0f);
+  }
+  for (const UVec3& t : g.triangles)
+    for (int a = 0; a < 3; ++a) {
+      const float span = std::max({g.positions[t.x][a], g.positions[t.y][a], g.positions[t.z][a]}) -
+                         std::min({g.positions[t.x][a], g.positions[t.y][a], g.positions[t.z][a]});
+      ASSERT_LE(span, 1.0f);
+    }
+  EXPECT_TRUE(camera_is_valid((*a)->camera));
+  for (const char* bad : {"soup:0", "soup:", "soup:x", "soup:20000001", "soup:5:", "soup:-3"}) {
+    auto s = load_scene(bad);
+    ASSERT_FALSE(s.ok()) << bad;
+    EXPECT_NE(s.error().message.find(bad), std::string::npos) << s.error().message;
+  }
+  EXPECT_NE(std::string(builtin_scene_help()).find("soup:N"), std::string::npos);
 }
 
 TEST(BuiltinScenes, ThirtyFiveMillionSpheres) {

@@ -1,4 +1,4 @@
-// Built-in scenes: "default", "cornell", "balls", "spheres:N[:SEED]", "bunny" (volumes: builtin_volume.cpp).
+// Built-in scenes: "default", "cornell", "balls", "spheres:N[:SEED]", "soup:N[:SEED]" (builtin_soup.cpp), "bunny" (volumes: builtin_volume.cpp).
 #include "core/scenes/builtin_scenes.h"
 
 #include <charconv>
@@ -104,21 +104,31 @@ Result<uint64_t> parse_count(std::string_view text, const std::string& spec, con
   return v;
 }
 
-// N random spheres in a cube whose side grows as cbrt(N), so density (and the picture) stays
-// alike for any N. Flat arrays reserved up front: 18 bytes per sphere before the BVH.
-Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
-  std::string_view rest = std::string_view(spec).substr(8);
+// "NAME:N[:SEED]" after its prefix of `skip` characters: N in 1..max, SEED 1 unless given.
+struct CountAndSeed {
+  uint64_t n = 0, seed = 1;
+};
+Result<CountAndSeed> parse_count_and_seed(const std::string& spec, size_t skip, uint64_t max) {
+  std::string_view rest = std::string_view(spec).substr(skip);
   const size_t colon = rest.find(':');
   auto n = parse_count(rest.substr(0, colon), spec, "N");
   if (!n) return n.error();
-  uint64_t seed = 1;
+  CountAndSeed out{*n, 1};
   if (colon != std::string_view::npos) {
     auto sd = parse_count(rest.substr(colon + 1), spec, "SEED");
     if (!sd) return sd.error();
-    seed = *sd;
+    out.seed = *sd;
   }
-  if (*n < 1 || *n > kMaxRandomSpheres)
-    return Error{spec + ": N must be in 1.." + std::to_string(kMaxRandomSpheres)};
+  if (out.n < 1 || out.n > max) return Error{spec + ": N must be in 1.." + std::to_string(max)};
+  return out;
+}
+
+// N random spheres in a cube whose side grows as cbrt(N), so density (and the picture) stays
+// alike for any N. Flat arrays reserved up front: 18 bytes per sphere before the BVH.
+Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
+  auto parsed = parse_count_and_seed(spec, 8, kMaxRandomSpheres);
+  if (!parsed) return parsed.error();
+  const uint64_t seed = parsed->seed, count = parsed->n;
   auto s = std::make_unique<Scene>();
   s->name = spec;
   uint16_t mats[8];
@@ -130,7 +140,6 @@ Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
   mats[5] = add_material(*s, polished("violet", Vec3(0.5f, 0.25f, 0.7f), 0.05f));
   mats[6] = add_material(*s, metal("steel", Vec3(0.8f), 200.0f));
   mats[7] = add_material(*s, dielectric("glass", 1.5f, Vec3(0.0f)));
-  const uint64_t count = *n;
   const float side = std::cbrt(float(count));
   Geometry& g = s->geometry;
   // Exactly N each (no growth, no copies; the in-place sphere BVH build adds only its nodes).
@@ -186,6 +195,11 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   else if (name == "room") return make_room();
   else if (name == "office") return make_office();
   else if (name.rfind("spheres:", 0) == 0) scene = make_spheres(name);
+  else if (name.rfind("soup:", 0) == 0) {
+    auto parsed = parse_count_and_seed(name, 5, kMaxSoupTriangles);
+    if (!parsed) return parsed.error();
+    scene = make_soup(parsed->n, parsed->seed);
+  }
   else if (name.rfind("volume:", 0) == 0) return make_volume_scene(name);
   else if (name == "sunflowers") return make_sunflowers();
   else if (name.rfind("sunflowers:", 0) == 0) {
@@ -203,7 +217,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
   } else
     return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
                         "scene (default, cornell, showcase, balls, teapot, room, office, sunflowers[:N], "
-                        "sunflowers-flat:N, spheres:N[:SEED], volume:KIND:N[:MODE], bunny)"};
+                        "sunflowers-flat:N, spheres:N[:SEED], soup:N[:SEED], volume:KIND:N[:MODE], bunny)"};
   if (!scene) return scene;
   finalize_scene(**scene);
   return scene;
@@ -223,6 +237,7 @@ const char* builtin_scene_help() {
          "                     46000: about a billion triangles), cut-out leaves, a low sun\n"
          "  sunflowers-flat:N  the same N plants as one plain mesh (~21,000 triangles each on average)\n"
          "  spheres:N[:SEED]   N random spheres, 1 <= N <= 35000000, seeded (default seed 1)\n"
+         "  soup:N[:SEED]      N random overlapping triangles, 1 <= N <= 20000000, seeded\n"
          "  volume:KIND:N[:MODE]  a generated volume: KIND marschner-lobb, shepp-logan (N or\n"
          "                     NXxNYxNZ: a CT-like head) or sphere (a distance field), N voxels a side;\n"
          "                     MODE isosurface (default), direct (the volume shader) or mip\n"

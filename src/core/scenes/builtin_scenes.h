@@ -32,6 +32,11 @@ Material polished(const char* name, Vec3 kd, float r0);
 // Largest N that "spheres:N" accepts.
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
+// "soup:N[:SEED]" (builtin_soup.cpp): N random overlapping triangles about one unit across in a
+// cube of side cbrt(N), seeded. Not yet finalized. At most kMaxSoupTriangles.
+std::unique_ptr<Scene> make_soup(uint64_t count, uint64_t seed);
+inline constexpr uint64_t kMaxSoupTriangles = 20'000'000;
+
 // Path of the Stanford bunny shipped by Debian's glmark2-data.
 // A scene kept in the binary as JSON whose files lie under /usr/share; each need names a folder
 // and the Debian package that brings it (a one-line error names the missing one).
