@@ -104,6 +104,20 @@ Result<uint64_t> parse_count(std::string_view text, const std::string& spec, con
   return v;
 }
 
+}  // namespace
+
+void frame_random_scene(Scene& s, uint64_t seed) {
+  Vec3 lo, hi;
+  geometry_bounds(s.geometry, lo, hi);
+  s.camera = frame_camera(lo, hi, s.settings.width, s.settings.height);
+  const float extent = glm::length(hi - lo);
+  s.lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
+  s.ambient = default_hemisphere_ambient();
+  s.settings.seed = seed;
+}
+
+namespace {
+
 // "NAME:N[:SEED]" after its prefix of `skip` characters: N in 1..max, SEED 1 unless given.
 struct CountAndSeed {
   uint64_t n = 0, seed = 1;
@@ -152,13 +166,7 @@ Result<std::unique_ptr<Scene>> make_spheres(const std::string& spec) {
     g.spheres.push_back(Sphere{side * (Vec3(x, y, z) - 0.5f), r});
     g.sphere_material.push_back(mats[rng.next_u32() & 7u]);
   }
-  Vec3 lo, hi;
-  geometry_bounds(g, lo, hi);
-  s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
-  const float extent = glm::length(hi - lo);
-  s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
-  s->ambient = default_hemisphere_ambient();
-  s->settings.seed = seed;
+  frame_random_scene(*s, seed);
   return s;
 }
 

@@ -32,6 +32,10 @@ Material polished(const char* name, Vec3 kd, float r0);
 // Largest N that "spheres:N" accepts.
 inline constexpr uint64_t kMaxRandomSpheres = 35'000'000;
 
+// The random scenes' setting (spheres:N, soup:N): the camera framing all geometry, one white
+// light above and beside it, the hemisphere ambient, the seed recorded.
+void frame_random_scene(Scene& scene, uint64_t seed);
+
 // "soup:N[:SEED]" (builtin_soup.cpp): N random overlapping triangles about one unit across in a
 // cube of side cbrt(N), seeded. Not yet finalized. At most kMaxSoupTriangles.
 std::unique_ptr<Scene> make_soup(uint64_t count, uint64_t seed);

@@ -34,13 +34,7 @@ std::unique_ptr<Scene> make_soup(uint64_t count, uint64_t seed) {
     g.triangles.push_back(UVec3(first, first + 1, first + 2));
     g.triangle_material.push_back(mat);
   }
-  Vec3 lo, hi;
-  geometry_bounds(g, lo, hi);
-  s->camera = frame_camera(lo, hi, s->settings.width, s->settings.height);
-  const float extent = glm::length(hi - lo);
-  s->lights.push_back(Light{0.5f * (lo + hi) + extent * Vec3(0.6f, 1.2f, 0.9f), Vec3(0.9f), 0.0f});
-  s->ambient = default_hemisphere_ambient();
-  s->settings.seed = seed;
+  frame_random_scene(*s, seed);
   return s;
 }
 
