@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/io/file_util.h"
 #include "core/scenes/scene_load.h"
 #include "display/atomic_file.h"
 #include "display/exr_io.h"
@@ -36,6 +37,12 @@ int run_render(const RenderArgs& a) {
   if (!output_dir_ok(a.out, error)) return report_error(error);
   if (!a.png.empty() && !output_dir_ok(a.png, error)) return report_error(error);
   if (!a.levels_png.empty() && !output_dir_ok(a.levels_png, error)) return report_error(error);
+  // Each file in the format its name says (an EXR named x.png opens nowhere as a PNG).
+  if (file_extension(a.out) != ".exr")
+    return report_error("--out: " + a.out + ": the render is written as EXR: name it .exr (--png adds a PNG)");
+  for (const auto& [flag, path] : {std::pair<const char*, const std::string*>{"--png", &a.png}, {"--levels-png", &a.levels_png}})
+    if (!path->empty() && file_extension(*path) != ".png")
+      return report_error(std::string(flag) + ": " + *path + ": a PNG is written here: name it .png");
   if (a.spp < 0 || a.spp > 1 << 20) return report_error("--spp: must be between 1 and 1048576");
   if (!valid_threads(a.threads, error)) return report_error(error);
 
