@@ -137,9 +137,14 @@ void Viewer::screenshot(const std::string& path) {
 
 // Renders the current view with `spp` samples on one thread beside the engine (the plots' error).
 void Viewer::request_reference(int spp) {
-  if (reference_job.valid()) return;
+  // Refusals first, each said in one line (a request while one renders used to vanish silently).
   if (world_edited) {  // the reference renders the Scene, which the world channel's edits do not change
     status = "reference: the lights, materials or objects were edited; it would show the scene as loaded";
+    std::fprintf(stderr, "frameless: %s\n", status.c_str());
+    return;
+  }
+  if (reference_job.valid()) {
+    status = "reference: one is being rendered already";
     std::fprintf(stderr, "frameless: %s\n", status.c_str());
     return;
   }
