@@ -15,7 +15,7 @@ const bool registered = register_command(
       auto args = std::make_shared<bench::ReprojectOptions>();
       app.add_option("scene", args->scene, "Scene whose primary hits are moved")->capture_default_str();
       app.add_option("--size", args->size, "Image size WxH")->capture_default_str();
-      app.add_option("--threads", args->threads, "Render threads whose slot order the image is kept in")
+      app.add_option("--threads", args->threads, "Render threads whose slot order the image is kept in (0: all cores)")
           ->capture_default_str();
       app.add_option("--degrees", args->degrees, "Orbit per camera change")->capture_default_str();
       app.add_option("--changes", args->changes, "Timed camera changes per order (median)")->capture_default_str();

@@ -13,6 +13,7 @@
 #include "core/shading/render_sample.h"
 #include "display/camera_controls.h"
 #include "display/reproject.h"
+#include "display/slot_image.h"
 #include "frameless/partition.h"
 
 namespace frameless::bench {
@@ -74,7 +75,7 @@ int run_reproject(const ReprojectOptions& o) {
   std::string error;
   int w = 0, h = 0;
   if (!parse_size(o.size, w, h, error)) return report_error(error);
-  if (!(o.threads >= 1 && o.threads <= 256)) return report_error("--threads: must be 1..256");
+  if (!valid_threads(o.threads, error)) return report_error(error);
   if (!(o.changes >= 1 && o.changes <= 10000)) return report_error("--changes: must be 1..10000");
   if (!(o.degrees > 0 && o.degrees <= 45)) return report_error("--degrees: must be in (0, 45]");
   if (o.order != "both" && o.order != "slots" && o.order != "pixels")
@@ -82,14 +83,16 @@ int run_reproject(const ReprojectOptions& o) {
   std::unique_ptr<Scene> scene = load_scene_or_report(o.scene, nullptr);
   if (!scene) return 2;
   PartitionConfig pc;
-  pc.width = w, pc.height = h, pc.threads = o.threads;
+  pc.width = w, pc.height = h, pc.threads = o.threads > 0 ? o.threads : hardware_threads();
   const Partition part = make_partition(pc);
-  std::vector<uint32_t> pixel_of, slot_of(size_t(w) * size_t(h));
-  for (const std::vector<uint32_t>& list : part.pixels) pixel_of.insert(pixel_of.end(), list.begin(), list.end());
-  for (size_t s = 0; s < pixel_of.size(); ++s) slot_of[pixel_of[s]] = uint32_t(s);
+  // The display's slot order: the threads' lists one after another (as the engine deals them).
+  auto order = std::make_shared<std::vector<uint32_t>>();
+  for (const std::vector<uint32_t>& list : part.pixels) order->insert(order->end(), list.begin(), list.end());
+  const LayoutPtr layout = make_layout(std::move(order));
   const std::vector<ScenePoint> points = primary_points(*scene, scene->camera, w, h);
   Timing slots, pixels;
-  if (o.order != "pixels") slots = time_changes(scene->camera, o, w, h, pixel_of.data(), slot_of.data(), points);
+  if (o.order != "pixels")
+    slots = time_changes(scene->camera, o, w, h, layout->pixel_of->data(), layout->slot_of.data(), points);
   if (o.order != "slots") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
   const double px = double(w) * double(h);
   if (o.json) {

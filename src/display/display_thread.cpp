@@ -105,6 +105,7 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 // Clears it instead on a reset or a size change, and moves every pixel to its new slot on a
 // layout change. Returns whether this tick therefore changed the whole image.
 bool DisplayThread::Impl::catch_up(const CollectResult& r) {
+  deferred = nullptr;  // set again below only when this tick leaves a full copy for later
   const size_t n = size_t(r.width) * size_t(r.height);
   if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) {
     LayoutPtr next = make_layout(r.slot_pixel);
@@ -118,11 +119,9 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.reset(r.width, r.height, layout);
     reset_reprojection();  // a cleared or resized image has no points (same pixel count or not)
     census.clear();
-    deferred = nullptr;
     return true;
   }
   const PixelImage& src = buf[newest];
-  deferred = nullptr;
   if (src.layout != layout) {
     remap(src, img, layout);
     return true;

@@ -39,11 +39,17 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   Impl& im = *impl_;
   im.geom = &geom;
   std::vector<Bvh8Node>().swap(im.nodes);  // a rebuild must not hold two trees at its peak
-  rehome_huge(geom.positions);  // rays fetch vertices at random (core/base/huge_pages.h)
+  // Rays fetch vertices and spheres at random: their storage goes to huge pages, once.
+  const auto home = [](auto& v, const void*& homed) {
+    if (v.data() == homed) return;
+    rehome_huge(v);
+    homed = v.data();
+  };
+  home(geom.positions, im.homed_positions);
   Bvh8 bvh;
   if (geom.num_triangles() == 0 && geom.num_patches() == 0) {
     // Sphere-only geometry: built in place (a sphere is its own bounds), no reference array.
-    rehome_huge(geom.spheres);
+    home(geom.spheres, im.homed_spheres);
     bvh = build_bvh8_spheres(geom.spheres, geom.sphere_material, config);
   } else {
     // References and the leaf-order permutation in parallel chunks, bit for bit the serial

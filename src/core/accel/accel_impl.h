@@ -107,6 +107,9 @@ struct Accel::Impl {
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces
   std::shared_ptr<const InstanceTop> top;  // top level over geom->instances (null: none)
   float scene_size = 0.0f;     // largest extent of the root box (packets' coherence test)
+  // Vertex and sphere storage already moved to huge pages (a rebuild does not copy it again).
+  const void* homed_positions = nullptr;
+  const void* homed_spheres = nullptr;
 };
 
 }  // namespace frameless

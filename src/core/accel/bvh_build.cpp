@@ -219,7 +219,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
   if (!big) {
     // One serial recursion, straight into the result.
     Builder b(prims, settings);
-    reserve_huge(out.nodes, n / 6 + 1);
+    out.nodes.reserve(n / 6 + 1);  // at most kParallelMin references: never huge
     b.build(out.nodes, root, 1);
     out.depth = b.depth;
     out.leaves = b.leaves;
@@ -273,8 +273,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
         out.depth = std::max(out.depth, t.depth);
         out.leaves += t.leaves;
       }
-      reserve_huge(out.nodes, total);
-      out.nodes.resize(total);
+      resize_huge(out.nodes, total);
       std::copy(top.nodes.begin(), top.nodes.end(), out.nodes.begin());
       std::vector<Bvh8Node>().swap(top.nodes);
       run(top.tasks.size(), [&](size_t k) {
@@ -393,8 +392,7 @@ void permute_geometry(Geometry& g, const PrimRef* refs, size_t n, const AccelCon
   auto gather = [&](auto& v, int kind) {
     if (v.size() != count[kind] || v.empty()) return;  // absent optional array: leave alone
     std::remove_reference_t<decltype(v)> out;
-    reserve_huge(out, v.size());
-    out.resize(v.size());
+    resize_huge(out, v.size());
     for_chunks(n, config, [&](size_t begin, size_t end) {
       uint32_t o = offset[3 * (begin / kChunk) + kind];
       for (size_t i = begin; i < end; ++i)

@@ -1,10 +1,10 @@
-// Transparent huge pages for the big arrays that rays and the display reach at random (BVH nodes,
-// triangles, vertices, spheres, the display's pixels): one 2 MiB page maps what 512 small ones do,
+// Transparent huge pages for the big arrays that rays reach at random (BVH nodes, triangles,
+// vertices, spheres): one 2 MiB page maps what 512 small ones do,
 // so a random walk over hundreds of megabytes stops paying a page walk at most steps. The kernel
 // picks a page's size when it is first touched, so storage is advised before anything is written.
 #pragma once
-#include <cstddef>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>

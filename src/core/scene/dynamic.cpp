@@ -51,7 +51,7 @@ std::string world_problem(const WorldState& w, const WorldState& shape) {
     if (!ok(w.object_position[i], false)) return "object " + std::to_string(i) + ": position must be finite";
   for (size_t i = 0; i < w.lights.size(); ++i) {
     const Light& l = w.lights[i];
-    if (!ok(l.position, false) || !ok(l.direction, false)) return "light " + std::to_string(i) + ": position must be finite";
+    if (!ok(l.position, false) || !ok(l.direction, false)) return "light " + std::to_string(i) + ": position and direction must be finite";
     if (!ok(l.color, true)) return "light " + std::to_string(i) + ": colour must be finite and >= 0";
     if (!(l.radius >= 0.0f) || !std::isfinite(l.radius)) return "light " + std::to_string(i) + ": radius must be finite and >= 0";
   }
