@@ -45,13 +45,16 @@ TEST(Panels, ShowOverTheImageAndALightControlTintsIt) {
   const ExrImage a = screenshot(plain, log), b = screenshot(shown, log), c = screenshot(blue, log),
                  d = screenshot(hidden, log);
   ASSERT_EQ(a.width, kWidth) << log;
-  // The panels cover the left of the window and leave the rest of the image as it was: there it
-  // only converges further between the two screenshots (0.025 under ASan beside a parallel
-  // ctest), far less than where the panel is drawn.
+  // The panels cover the left of the window and leave the rest of the image as it was: there
+  // pixels only lose noise between the two screenshots (per pixel 0.025-0.056 under ASan beside a
+  // parallel ctest, 5e-5 alone), far less than where the panel is drawn (0.46), and its
+  // brightness stays (a mean over the region, which the noise does not move).
   const double panel = mean_difference(a, b, 0, kPanelRight), rest = mean_difference(a, b, kImageLeft, kWidth);
   EXPECT_GT(panel, 0.05);
-  EXPECT_LT(rest, 0.05);
   EXPECT_GT(panel, 3.0 * rest) << "panel " << panel << ", rest of the image " << rest;
+  for (const char* c : {"R", "G", "B"})
+    EXPECT_NEAR(channel_mean(b, c, kImageLeft, kWidth), channel_mean(a, c, kImageLeft, kWidth),
+                0.03 * channel_mean(a, c, kImageLeft, kWidth)) << c;
   // A blue light: the image's blue-to-red ratio rises (1.04 before; 1.54 after 1.6 s under ASan
   // beside a parallel ctest, more when the machine is free; 1.035 when the control does nothing).
   auto ratio = [](const ExrImage& e) { return channel_mean(e, "B", kImageLeft, kWidth) / channel_mean(e, "R", kImageLeft, kWidth); };
