@@ -20,6 +20,9 @@ namespace {
 constexpr uint32_t kNone = ~0u;
 constexpr uint64_t kHole = ~uint64_t(0);  // no point landed (depth bits 0xffffffff: a NaN, never a depth)
 
+// The pairs of opposite neighbours a crack is closed across.
+constexpr int kOpposite[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+
 inline uint32_t depth_bits(uint64_t key) { return uint32_t(key >> 32); }
 inline float key_depth(uint64_t key) {
   float d;
@@ -187,6 +190,85 @@ size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
 }
 #endif
 
+// Hole t (nothing landed): a crack inside a magnified surface when it has landed neighbours of
+// about one depth on opposite sides; it takes the farther of such a pair (the farthest pair's),
+// else it waits for the disocclusion search. Fills are applied after the pass.
+void Reprojector::crack(uint32_t t, int w, int h) {
+  const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
+  const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;
+  uint64_t best = kHole;
+  for (const auto& d : kOpposite) {
+    if (!inside && (x - d[0] < 0 || x + d[0] >= w || y - std::abs(d[1]) < 0 || y + std::abs(d[1]) >= h)) continue;
+    const int64_t off = int64_t(d[1]) * w + d[0];
+    const uint64_t kp = key_[size_t(int64_t(t) + off)], kq = key_[size_t(int64_t(t) - off)];
+    if (kp == kHole || kq == kHole) continue;
+    const float dp = key_depth(kp), dq = key_depth(kq);
+    if (std::max(dp, dq) > std::min(dp, dq) * 1.05f) continue;  // an edge between two surfaces, not a crack
+    const uint64_t f = dp >= dq ? kp : kq;
+    if (best == kHole || depth_bits(f) > depth_bits(best)) best = f;
+  }
+  if (best == kHole) {
+    next_.push_back(t);
+    return;
+  }
+  fills_.push_back({t, best});
+  marks_[t] = kMarkFilled;
+}
+
+#if defined(__AVX512F__)
+// crack() for every hole, eight pixels of a row a step away from the border (the per-hole
+// branches mispredicted): the same float compares and depth-bit picks, so the same fills, in
+// pixel order.
+void Reprojector::cracks8(int w, int h) {
+  const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
+  const __m256 slack = _mm256_set1_ps(1.05f);
+  const auto depth = [](__m512i keys) { return _mm256_castsi256_ps(_mm512_cvtepi64_epi32(_mm512_srli_epi64(keys, 32))); };
+  const auto scalar = [&](size_t t) {
+    if (key_[t] == kHole) crack(uint32_t(t), w, h);
+  };
+  for (int y = 0; y < h; ++y) {
+    const size_t row = size_t(y) * size_t(w);
+    if (y == 0 || y == h - 1) {
+      for (int x = 0; x < w; ++x) scalar(row + size_t(x));
+      continue;
+    }
+    scalar(row);
+    for (int x = 1; x < w - 1; x += 8) {
+      const size_t t = row + size_t(x);
+      const __mmask8 lanes = __mmask8(w - 1 - x >= 8 ? 0xffu : (1u << (w - 1 - x)) - 1u);
+      const __mmask8 holes = _mm512_mask_cmpeq_epu64_mask(lanes, _mm512_maskz_loadu_epi64(lanes, &key_[t]), hole);
+      if (!holes) continue;
+      __m512i best = hole;
+      __mmask8 found = 0;
+      for (const auto& d : kOpposite) {
+        const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
+        const __m512i kp = _mm512_maskz_loadu_epi64(holes, &key_[size_t(ptrdiff_t(t) + off)]);
+        const __m512i kq = _mm512_maskz_loadu_epi64(holes, &key_[size_t(ptrdiff_t(t) - off)]);
+        __mmask8 ok = _mm512_mask_cmpneq_epu64_mask(holes, kp, hole) & _mm512_cmpneq_epu64_mask(kq, hole);
+        const __m256 dp = depth(kp), dq = depth(kq);
+        ok &= __mmask8(~_mm256_cmp_ps_mask(_mm256_max_ps(dp, dq), _mm256_mul_ps(_mm256_min_ps(dp, dq), slack), _CMP_GT_OQ));
+        const __m512i f = _mm512_mask_blend_epi64(_mm256_cmp_ps_mask(dp, dq, _CMP_GE_OQ), kq, kp);
+        const __mmask8 better = ok & __mmask8(~found | _mm512_cmpgt_epu64_mask(_mm512_srli_epi64(f, 32), _mm512_srli_epi64(best, 32)));
+        best = _mm512_mask_mov_epi64(best, better, f);
+        found |= better;
+      }
+      alignas(64) uint64_t keys[8];
+      _mm512_store_si512(keys, best);
+      for (unsigned m = holes; m; m &= m - 1u) {
+        const unsigned i = unsigned(__builtin_ctz(m));
+        if (found >> i & 1u) {
+          fills_.push_back({uint32_t(t + i), keys[i]});
+          marks_[t + i] = kMarkFilled;
+        } else {
+          next_.push_back(uint32_t(t + i));
+        }
+      }
+    }
+    scalar(row + size_t(w) - 1);
+  }
+}
+#endif
+
 ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill, EpochCensus* census) {
   const int w = from.width, h = from.height;
@@ -211,48 +293,16 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   }
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
-  if (holes_.size() < n + 8) holes_.resize(n + 8);  // never shrunk: growing zeroes it; 8 spare for the vector store
-  size_t holes = 0;
-  size_t t0 = 0;
-#if defined(__AVX512F__)
-  if (vectorized_) {  // eight keys a compare, their holes' pixels stored packed (the branch per pixel mispredicts)
-    const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
-    const __m256i step8 = _mm256_set1_epi32(8);
-    __m256i index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    for (; t0 + 8 <= n; t0 += 8, index = _mm256_add_epi32(index, step8)) {
-      const __mmask8 m = _mm512_cmpeq_epu64_mask(_mm512_loadu_si512(&key_[t0]), hole);
-      // Compressed in a register and stored whole (a compressing store to memory is slow on Zen 4).
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(&holes_[holes]), _mm256_maskz_compress_epi32(m, index));
-      holes += size_t(__builtin_popcount(m));
-    }
-  }
-#endif
-  for (; t0 < n; ++t0)
-    if (key_[t0] == kHole) holes_[holes++] = uint32_t(t0);
-  static constexpr int kOpposite[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   fills_.clear();
   next_.clear();
-  for (size_t i = 0; i < holes; ++i) {
-    const uint32_t t = holes_[i];
-    const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
-    const bool inside = x > 0 && y > 0 && x < w - 1 && y < h - 1;
-    uint64_t best = kHole;
-    for (const auto& d : kOpposite) {
-      if (!inside && (x - d[0] < 0 || x + d[0] >= w || y - std::abs(d[1]) < 0 || y + std::abs(d[1]) >= h)) continue;
-      const int64_t off = int64_t(d[1]) * w + d[0];
-      const uint64_t kp = key_[size_t(int64_t(t) + off)], kq = key_[size_t(int64_t(t) - off)];
-      if (kp == kHole || kq == kHole) continue;
-      const float dp = key_depth(kp), dq = key_depth(kq);
-      if (std::max(dp, dq) > std::min(dp, dq) * 1.05f) continue;  // an edge between two surfaces, not a crack
-      const uint64_t f = dp >= dq ? kp : kq;
-      if (best == kHole || depth_bits(f) > depth_bits(best)) best = f;
-    }
-    if (best == kHole) {
-      next_.push_back(t);
-      continue;
-    }
-    fills_.push_back({t, best});
-    marks_[t] = kMarkFilled;
+#if defined(__AVX512F__)
+  if (vectorized_ && w >= 3 && h >= 3) {
+    cracks8(w, h);
+  } else
+#endif
+  {
+    for (size_t t = 0; t < n; ++t)
+      if (key_[t] == kHole) crack(uint32_t(t), w, h);
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
@@ -279,41 +329,50 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // reprojection (a random walk; worse error in bench motion although fewer holes). The engine's
   // sequence numbers stay with the slots (the display keeps them apart from the pixels).
   const Vec3 step = after.u * (2.0f * after.tan_half * after.aspect / float(w));
+  row_dirs_.resize(size_t(h));
+  for (int y = 0; y < h; ++y) row_dirs_[size_t(y)] = camera_direction(after, 0.5f, float(y) + 0.5f);
   size_t by_mark[256] = {};
-  // In raster order (walking slots instead was 2.3x slower: the pixel-indexed arrays scatter);
-  // the slot-indexed pixels are scattered here, so they are fetched a few pixels early.
-  constexpr size_t kAhead = 24;
-  for (int y = 0; y < h; ++y) {
-    const Vec3 row = camera_direction(after, 0.5f, float(y) + 0.5f);
-    for (int x = 0; x < w; ++x) {
-      const size_t t = size_t(y) * size_t(w) + size_t(x);
-      if (t + kAhead < n) {
-        const uint32_t ahead = to.slot(t + kAhead);
-        const uint64_t key = key_[t + kAhead];
-        __builtin_prefetch(&to.px[ahead], 1);
-        if (key != kHole) __builtin_prefetch(&from.px[from.slot(uint32_t(key))]);
-      }
-      const uint64_t key = key_[t];
-      uint32_t source = uint32_t(key);
-      uint8_t mark = marks_[t];
-      if (key == kHole) {  // nothing reached it: its old content, marked as a guess
-        source = uint32_t(t);
-        mark = kMarkDisoccluded | kMarkUnknown;
-      }
-      ScenePoint point = from.points[source];
-      if (mark & (kMarkFilled | kMarkDisoccluded) && !(mark & kMarkUnknown)) {
-        // A copy of a neighbour's content gets its own point, on its centre ray at that depth:
-        // a copy of the neighbour's point would collide with it next time and open the hole again.
-        const Vec3 dir = row + float(x) * step;
-        point.p = point.object == kPointSky ? dir : after.eye + key_depth(key) * dir;
-      }
-      if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
-      const uint32_t ts = to.slot(t), s = from.slot(source);
-      to.px[ts] = from.px[s];
+  // What pixel t shows: the slot of `from` its content comes from; its point and mark are written.
+  const auto place = [&](size_t t) {
+    const uint64_t key = key_[t];
+    uint32_t source = uint32_t(key);
+    uint8_t mark = marks_[t];
+    if (key == kHole) {  // nothing reached it: its old content, marked as a guess
+      source = uint32_t(t);
+      mark = kMarkDisoccluded | kMarkUnknown;
+    }
+    ScenePoint point = from.points[source];
+    if (mark & (kMarkFilled | kMarkDisoccluded) && !(mark & kMarkUnknown)) {
+      // A copy of a neighbour's content gets its own point, on its centre ray at that depth:
+      // a copy of the neighbour's point would collide with it next time and open the hole again.
+      const Vec3 dir = row_dirs_[t / size_t(w)] + float(t % size_t(w)) * step;
+      point.p = point.object == kPointSky ? dir : after.eye + key_depth(key) * dir;
+    }
+    if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
+    to.points[t] = point;
+    to.marks[t] = mark;
+    ++by_mark[mark];
+    return from.slot(source);
+  };
+  if (!to.pixel_of) {
+    for (size_t t = 0; t < n; ++t) {  // slot = pixel: every array streams
+      to.px[t] = from.px[place(t)];
+      if (census) census->add(to.px[t].epoch);
+    }
+  } else {
+    // Two passes: points and marks by pixel, then the pixels by slot. One walk doing both (either
+    // order) missed the cache on every pixel: the slot order is a shuffle of 64-pixel chunks.
+    source_slot_.resize(n);
+    for (size_t t = 0; t < n; ++t) source_slot_[t] = place(t);
+    // Slots stream; the source slot of the pixel kAhead slots on is fetched early, and its
+    // content kAhead / 2 slots on.
+    constexpr size_t kAhead = 128;
+    const uint32_t* pixel_of = to.pixel_of;
+    for (size_t ts = 0; ts < n; ++ts) {
+      if (ts + kAhead < n) __builtin_prefetch(&source_slot_[pixel_of[ts + kAhead]]);
+      if (ts + kAhead / 2 < n) __builtin_prefetch(&from.px[source_slot_[pixel_of[ts + kAhead / 2]]]);
+      to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
       if (census) census->add(to.px[ts].epoch);
-      to.points[t] = point;
-      to.marks[t] = mark;
-      ++by_mark[mark];
     }
   }
   ReprojectStats stats;

@@ -123,6 +123,8 @@ class Reprojector {
   uint32_t farther(uint32_t a, uint32_t b) const;
   bool vector_window(int r) const;
   size_t splat16(const Projector& project, const SlotImage& from, int w);
+  void crack(uint32_t t, int w, int h);
+  void cracks8(int w, int h);
   uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
   Search search_ = Search::automatic;
@@ -137,9 +139,10 @@ class Reprojector {
     uint64_t key;
   };
   std::vector<uint8_t> marks_;   // by pixel: kMarkMoved, or how a hole was filled
-  std::vector<uint32_t> holes_;  // pixels nothing landed on
-  std::vector<uint32_t> next_;   // those that are no crack
+  std::vector<uint32_t> next_;   // holes (nothing landed) that are no crack
   std::vector<Fill> fills_;      // a pass's fills, applied together after it
+  std::vector<Vec3> row_dirs_;   // the new camera's centre ray of each row's first pixel
+  std::vector<uint32_t> source_slot_;  // by pixel: the slot of `from` the gather copies
 };
 
 }  // namespace frameless

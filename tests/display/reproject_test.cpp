@@ -14,6 +14,7 @@
 #include "core/scenes/scene_load.h"
 #include "display/display_thread.h"
 #include "frameless/engine.h"
+#include "frameless/partition.h"
 
 namespace frameless {
 namespace {
@@ -232,6 +233,8 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   Synthetic from = render(a, true);
   for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;  // holes
   for (size_t i = 5; i < from.points.size(); i += 13) from.points[i].object = kPointDynamic + uint32_t(i % 3);
+  for (size_t i = 0; i < from.points.size(); ++i)  // depth steps of 3 % (cracks) and 6 % (edges)
+    from.points[i].p = a.eye + (from.points[i].p - a.eye) * (1.0f + 0.03f * float(i * 7 % 3));
   for (int y = 0; y < kH / 5; ++y)  // sky along the top: its points are directions
     for (int x = 0; x < kW; ++x)
       from.points[size_t(y) * kW + size_t(x)] = {camera_ray(a, float(x) + 0.5f, float(y) + 0.5f).dir, kPointSky};
@@ -245,6 +248,37 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   EXPECT_GT(ss.disoccluded, 0u);
   EXPECT_GT(ss.stale, 0u);
   expect_same_image(vec, sv, scalar, ss);
+}
+
+// The display keeps its pixels in the engine's slot order (shuffled 64-pixel chunks of a Hilbert
+// line, dealt to threads); the gather then walks pixels and slots in two passes. The image must
+// be the one reprojected in pixel order, each pixel in its slot.
+TEST(Reproject, SlotOrderGivesThePixelOrderImage) {
+  const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
+  Synthetic from = render(a, true);
+  for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;
+  PartitionConfig pc;
+  pc.width = kW, pc.height = kH, pc.threads = 3;
+  std::vector<uint32_t> pixel_of;
+  for (const std::vector<uint32_t>& list : make_partition(pc).pixels) pixel_of.insert(pixel_of.end(), list.begin(), list.end());
+  std::vector<uint32_t> slot_of(pixel_of.size());
+  for (size_t s = 0; s < pixel_of.size(); ++s) slot_of[pixel_of[s]] = uint32_t(s);
+  ASSERT_NE(pixel_of[1], 1u) << "the layout should not be the identity";
+  Synthetic by_pixel = from;
+  Reprojector r;
+  const ReprojectStats sp = r.run(b, from.image(), by_pixel.image());
+  Synthetic slotted = from, slotted_out = from;
+  for (size_t s = 0; s < pixel_of.size(); ++s) slotted.px[s] = from.px[pixel_of[s]];
+  const auto slot_image = [&](Synthetic& img) {
+    return SlotImage{kW, kH, pixel_of.data(), slot_of.data(), img.px.data(), img.points.data(), img.marks.data()};
+  };
+  const ReprojectStats ss = r.run(b, slot_image(slotted), slot_image(slotted_out));
+  EXPECT_GT(ss.filled, 0u);
+  EXPECT_GT(ss.disoccluded, 0u);
+  Synthetic back = slotted_out;  // by pixel again
+  for (size_t s = 0; s < pixel_of.size(); ++s) back.px[pixel_of[s]] = slotted_out.px[s];
+  expect_same_image(by_pixel, sp, back, ss);
 }
 
 // The CPU budget is a leaky bucket: a reprojection that cost c at budget b waits c / b seconds.
