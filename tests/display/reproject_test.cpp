@@ -9,7 +9,10 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "core/scenes/scene_load.h"
 #include "display/display_thread.h"
@@ -248,6 +251,46 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   EXPECT_GT(ss.disoccluded, 0u);
   EXPECT_GT(ss.stale, 0u);
   expect_same_image(vec, sv, scalar, ss);
+}
+
+// The vector paths step eight pixels of a row and leave the border to the scalar code; images
+// narrower or shorter than that (down to one pixel) must still give the scalar image.
+TEST(Reproject, SmallImagesMatchTheScalarCode) {
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {2, 7}, {3, 3}, {10, 4}, {17, 5}, {33, 9}}) {
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    Camera c;
+    c.eye = {0.0f, 0.0f, 5.0f};
+    c.look = {0.0f, 0.0f, 0.0f};
+    c.fov_deg = 60.0f;
+    const CameraBasis a = make_camera_basis(c, w, h);
+    c.eye = {0.4f, 0.1f, 4.2f};
+    const CameraBasis b = make_camera_basis(c, w, h);
+    const size_t n = size_t(w) * size_t(h);
+    std::vector<DisplayPixel> px(n);
+    std::vector<ScenePoint> points(n);
+    std::vector<uint8_t> marks(n, kMarkNone);
+    for (size_t i = 0; i < n; ++i) {
+      const Ray r = camera_ray(a, float(i % size_t(w)) + 0.5f, float(i / size_t(w)) + 0.5f);
+      points[i] = {r.org + (-r.org.z / r.dir.z) * (1.0f + 0.03f * float(i * 7 % 3)) * r.dir, kPointStatic};
+      if (i % 5 == 3) points[i].object = kPointNone;
+      px[i].rgb[0] = float(i);
+    }
+    std::vector<DisplayPixel> vpx(n), spx(n);
+    std::vector<ScenePoint> vpoints(n), spoints(n);
+    std::vector<uint8_t> vmarks(n), smarks(n);
+    const SlotImage from{w, h, nullptr, nullptr, px.data(), points.data(), marks.data()};
+    Reprojector r;
+    const ReprojectStats sv = r.run(b, from, {w, h, nullptr, nullptr, vpx.data(), vpoints.data(), vmarks.data()});
+    r.set_vectorized(false);
+    const ReprojectStats ss = r.run(b, from, {w, h, nullptr, nullptr, spx.data(), spoints.data(), smarks.data()});
+    EXPECT_EQ(sv.moved, ss.moved);
+    EXPECT_EQ(sv.filled, ss.filled);
+    EXPECT_EQ(sv.disoccluded, ss.disoccluded);
+    EXPECT_EQ(std::memcmp(vpx.data(), spx.data(), n * sizeof(DisplayPixel)), 0);
+    EXPECT_EQ(std::memcmp(vpoints.data(), spoints.data(), n * sizeof(ScenePoint)), 0);
+    EXPECT_EQ(vmarks, smarks);
+    EXPECT_GE(sv.moved + sv.disoccluded + sv.filled, n);  // every pixel shows something
+  }
 }
 
 // The display keeps its pixels in the engine's slot order (shuffled 64-pixel chunks of a Hilbert
