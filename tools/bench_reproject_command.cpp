@@ -10,7 +10,7 @@ namespace {
 
 const bool registered = register_command(
     "bench", "reproject",
-    "The display's reprojection alone, per camera change, in slot and in pixel order",
+    "The display's reprojection alone, per camera change, in slot and in pixel order, with its phases",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::ReprojectOptions>();
       app.add_option("scene", args->scene, "Scene whose primary hits are moved")->capture_default_str();

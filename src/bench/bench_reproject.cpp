@@ -34,7 +34,14 @@ std::vector<ScenePoint> primary_points(const Scene& scene, const Camera& camera,
 struct Timing {
   double median_ms = 0, best_ms = 0;
   double moved = 0, disoccluded = 0;  // fractions of the pixels at the last change
+  ReprojectTimes phases;              // medians of each phase over the changes
 };
+
+const char* const kPhaseNames[5] = {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"};
+double* phase(ReprojectTimes& t, int i) {
+  double* all[5] = {&t.splat, &t.cracks, &t.disocclusions, &t.pixel_pass, &t.slot_pass};
+  return all[i];
+}
 
 // `changes` reprojections along the orbit, the image moved each time (as the display does).
 Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h,
@@ -46,7 +53,7 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   for (size_t s = 0; s < n; ++s) px[s].epoch = 1;
   Reprojector r;
   EpochCensus census;
-  std::vector<double> ms;
+  std::vector<double> ms, phase_ms[5];
   Camera camera = start;
   ReprojectStats last;
   for (int k = 0; k < o.changes + 2; ++k) {  // two untimed: first touches of the scratch memory
@@ -58,12 +65,17 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
     const ReprojectStats st = r.run(make_camera_basis(camera, w, h), from, to, true, 3, &census);
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     last = st;
-    if (k >= 2) ms.push_back(t);
+    if (k >= 2) {
+      ms.push_back(t);
+      ReprojectTimes times = r.last_times();
+      for (int i = 0; i < 5; ++i) phase_ms[i].push_back(*phase(times, i));
+    }
     px.swap(px_out), points.swap(points_out), marks.swap(marks_out);
   }
   Timing out;
   out.median_ms = median(ms);
   out.best_ms = *std::min_element(ms.begin(), ms.end());
+  for (int i = 0; i < 5; ++i) *phase(out.phases, i) = median(phase_ms[i]);
   out.moved = double(last.moved) / double(n);
   out.disoccluded = double(last.disoccluded) / double(n);
   return out;
@@ -99,20 +111,27 @@ int run_reproject(const ReprojectOptions& o) {
     nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
                         {"degrees", o.degrees}, {"changes", o.changes}};
     for (const auto& [name, t] : {std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
-      if (t.median_ms > 0)
+      if (t.median_ms > 0) {
         j[name] = {{"median_ms", t.median_ms}, {"best_ms", t.best_ms}, {"ns_per_pixel", 1e6 * t.median_ms / px},
                    {"moved_fraction", t.moved}, {"disoccluded_fraction", t.disoccluded}};
+        ReprojectTimes phases = t.phases;
+        for (int i = 0; i < 5; ++i) j[name]["phases_ms"][kPhaseNames[i]] = *phase(phases, i);
+      }
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
   std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d\n",
               o.scene.c_str(), w, h, o.degrees, o.changes);
   for (const auto& [name, t] : {std::pair{"slot order (the display's)", slots}, std::pair{"pixel order", pixels}})
-    if (t.median_ms > 0)
+    if (t.median_ms > 0) {
       std::printf("  %-27s %6.2f ms (best %.2f), %5.1f ns a pixel, %3.0f %% of a core at 30 changes/s; "
                   "%.1f %% moved, %.2f %% disoccluded\n",
                   name, t.median_ms, t.best_ms, 1e6 * t.median_ms / px, 3.0 * t.median_ms, 100.0 * t.moved,
                   100.0 * t.disoccluded);
+      std::printf("  %-27s splat %.2f, cracks %.2f, disocclusions %.2f, gather by pixel %.2f, by slot %.2f ms\n",
+                  "  phases (medians)", t.phases.splat, t.phases.cracks, t.phases.disocclusions, t.phases.pixel_pass,
+                  t.phases.slot_pass);
+    }
   return 0;
 }
 

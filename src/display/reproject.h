@@ -96,6 +96,13 @@ struct SlotImage {
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }
 };
 
+// Wall milliseconds of a reprojection's phases: the splat, the crack and disocclusion searches,
+// the gather's pass by pixel (points and marks; with an identity layout, the whole gather) and its
+// pass by slot (the pixels; 0 with an identity layout).
+struct ReprojectTimes {
+  double splat = 0, cracks = 0, disocclusions = 0, pixel_pass = 0, slot_pass = 0;
+};
+
 class Reprojector {
  public:
   // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
@@ -118,6 +125,8 @@ class Reprojector {
   // AVX-512 paths (splat, hole scan, disocclusion window) where the build has them; off:
   // the scalar code, which they must match exactly (tested).
   void set_vectorized(bool on) { vectorized_ = on; }
+  // The phases of the last run().
+  const ReprojectTimes& last_times() const { return times_; }
 
  private:
   uint32_t farther(uint32_t a, uint32_t b) const;
@@ -129,6 +138,7 @@ class Reprojector {
   uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
   Search search_ = Search::automatic;
   bool vectorized_ = true;
+  ReprojectTimes times_;
   std::vector<uint32_t> row_best_, prefix_, suffix_;  // farthest_in_rows' scratch
   std::vector<uint8_t> row_done_;
   // By pixel: the nearest point landed so far as (depth bits << 32 | the pixel of `from` it

@@ -1,6 +1,7 @@
 // `frameless bench reproject --json` end to end on a small image: both orders measured, the
 // image moved as an orbit of half a degree moves it (most pixels land somewhere, few are
-// uncovered; 1280x720 gives 78 % and 4 %), bad arguments one line each. (No timing is asserted.)
+// uncovered; 1280x720 gives 78 % and 4 %), its phases reported (slot order's gather in two
+// passes), bad arguments one line each. (No timing is asserted.)
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -20,7 +21,13 @@ TEST(BenchReprojectCli, JsonReportsBothOrdersAndAPlausibleMove) {
     EXPECT_GT(j[order]["median_ms"].get<double>(), 0.0);
     EXPECT_GT(j[order]["moved_fraction"].get<double>(), 0.5) << r.output;  // the rest: cracks closed, a band uncovered
     EXPECT_LT(j[order]["disoccluded_fraction"].get<double>(), 0.2) << r.output;
+    for (const char* phase : {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"})
+      EXPECT_GE(j[order]["phases_ms"][phase].get<double>(), 0.0) << order << " " << phase;
+    EXPECT_GT(j[order]["phases_ms"]["pixel_pass"].get<double>(), 0.0) << r.output;
   }
+  // Slot order gathers in two passes; pixel order in one.
+  EXPECT_GT(j["slot_order"]["phases_ms"]["slot_pass"].get<double>(), 0.0) << r.output;
+  EXPECT_EQ(j["pixel_order"]["phases_ms"]["slot_pass"].get<double>(), 0.0) << r.output;
   // The order changes where pixels live, not what moves where.
   EXPECT_EQ(j["slot_order"]["moved_fraction"], j["pixel_order"]["moved_fraction"]);
   const CommandResult one = run_frameless("bench reproject default --size 160x90 --changes 2 --order pixels --json");
