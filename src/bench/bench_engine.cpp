@@ -76,6 +76,7 @@ struct DisplayCost {
   double consumer_fraction = 0;  // CPU of a consumer taking an image per tick (acquire_latest)
   double reprojections_per_s = 0;
   double reproject_fraction = 0;  // the part of cpu_fraction spent reprojecting
+  ReprojectTimes phases;          // mean wall ms of each phase of a reprojection
 };
 
 // Display-thread CPU time as a fraction of one core while the engine renders; then, separately
@@ -134,6 +135,8 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;
   r.reprojections_per_s = double(s1.reproject.reprojections - s0.reproject.reprojections) / wall;
   r.reproject_fraction = (s1.reproject.cpu_seconds - s0.reproject.cpu_seconds) / wall;
+  r.phases = ReprojectTimes::mean_between(s1.reproject.phase_ms, s0.reproject.phase_ms,
+                                          double(s1.reproject.reprojections - s0.reproject.reprojections));
   r.updates_per_s = updates / wall;
   r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
   r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
@@ -218,7 +221,7 @@ int run_engine(const EngineBenchOptions& a) {
     // The moving display with reprojection at further sizes (its cost grows with the pixels).
     nlohmann::json by_size = nlohmann::json::array();
     for (const auto& [w, h] : moving_sizes) {
-      std::vector<double> size_cpu, size_rate, size_part;
+      std::vector<double> size_cpu, size_rate, size_part, size_phase[5];
       for (int k = 0; k < std::max(1, a.repeats); ++k) {
         note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
               ", camera moving at 30 Hz, with reprojection").c_str());
@@ -226,6 +229,9 @@ int run_engine(const EngineBenchOptions& a) {
         size_cpu.push_back(m.cpu_fraction);
         size_rate.push_back(m.reprojections_per_s);
         size_part.push_back(m.reproject_fraction);
+        const double phase[5] = {m.phases.splat, m.phases.cracks, m.phases.disocclusions, m.phases.pixel_pass,
+                                 m.phases.slot_pass};
+        for (int i = 0; i < 5; ++i) size_phase[i].push_back(phase[i]);
       }
       const double rate = median(size_rate), part = median(size_part);
       by_size.push_back({{"width", w},
@@ -233,7 +239,12 @@ int run_engine(const EngineBenchOptions& a) {
                          {"display_cpu_fraction", median(size_cpu)},
                          {"reproject_cpu_fraction", part},
                          {"reprojections_per_s", rate},
-                         {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0}});
+                         {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0},
+                         // Wall time of each phase (the display thread may wait for a core inside them).
+                         {"phases_wall_ms",
+                          {{"splat", median(size_phase[0])}, {"cracks", median(size_phase[1])},
+                           {"disocclusions", median(size_phase[2])}, {"pixel_pass", median(size_phase[3])},
+                           {"slot_pass", median(size_phase[4])}}}});
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -314,6 +325,13 @@ int run_engine(const EngineBenchOptions& a) {
                     m["width"].get<int>(), m["height"].get<int>(), 100.0 * m["display_cpu_fraction"].get<double>(),
                     100.0 * m["reproject_cpu_fraction"].get<double>(), m["reprojections_per_s"].get<double>(),
                     m["ms_per_reprojection"].get<double>());
+      for (const nlohmann::json& m : by_size) {
+        const nlohmann::json& p = m["phases_wall_ms"];
+        std::printf("    phases at %dx%d (wall ms a reprojection): splat %.2f, cracks %.2f, disocclusions %.2f, "
+                    "gather by pixel %.2f, by slot %.2f\n",
+                    m["width"].get<int>(), m["height"].get<int>(), p["splat"].get<double>(), p["cracks"].get<double>(),
+                    p["disocclusions"].get<double>(), p["pixel_pass"].get<double>(), p["slot_pass"].get<double>());
+      }
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));
     }

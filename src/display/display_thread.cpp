@@ -201,6 +201,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   t.filled += st.filled;
   t.disoccluded += st.disoccluded;
   t.stale += st.stale;
+  t.phase_ms += reprojector.last_times();
   const double cost = thread_cpu_seconds() - c0;
   reproject_budget.spend(cost, budget);
   t.cpu_seconds += cost;

@@ -101,6 +101,17 @@ struct SlotImage {
 // pass by slot (the pixels; 0 with an identity layout).
 struct ReprojectTimes {
   double splat = 0, cracks = 0, disocclusions = 0, pixel_pass = 0, slot_pass = 0;
+  ReprojectTimes& operator+=(const ReprojectTimes& o) {
+    splat += o.splat, cracks += o.cracks, disocclusions += o.disocclusions;
+    pixel_pass += o.pixel_pass, slot_pass += o.slot_pass;
+    return *this;
+  }
+  // (a - b) / n: the mean phases of n reprojections between two totals.
+  static ReprojectTimes mean_between(const ReprojectTimes& a, const ReprojectTimes& b, double n) {
+    const double k = n > 0 ? 1.0 / n : 0.0;
+    return {(a.splat - b.splat) * k, (a.cracks - b.cracks) * k, (a.disocclusions - b.disocclusions) * k,
+            (a.pixel_pass - b.pixel_pass) * k, (a.slot_pass - b.slot_pass) * k};
+  }
 };
 
 class Reprojector {
