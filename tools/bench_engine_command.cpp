@@ -27,6 +27,9 @@ const bool registered = register_command(
       app.add_option("--moving-sizes", args->moving_sizes,
                      "Also measure the display thread during the move with reprojection at these "
                      "sizes WxH (default: 1280x720 only)");
+      app.add_option("--render-nice", args->render_nice,
+                     "Render threads' nice value above the display's, 0..19 (default " +
+                         std::to_string(kDefaultRenderNice) + ")");
       app.add_flag("--json", args->json, "Print JSON");
       return [args]() { return bench::run_engine(*args); };
     });

@@ -43,6 +43,9 @@ const bool registered = register_command(
                      "conventional's samples/s: the samples needed for its error (default "
                      "0.5,0.25,0.125; 0 runs none)")
           ->delimiter(',');
+      app.add_option("--render-nice", args->render_nice,
+                     "Render threads' nice value above the display's, 0..19 (default " +
+                         std::to_string(kDefaultRenderNice) + ")");
       app.add_option("--budget", args->budget,
                      "Reprojection budget of the budgeted row, a fraction of one core (default "
                      "0.15: the display thread within 25 % in bench engine's 1280x720 move)");

@@ -25,6 +25,10 @@ void EngineFlags::add_to(CLI::App& app) {
                  "frameless: render threads trace at most this many samples a second together "
                  "(0: as fast as they can)")
       ->capture_default_str();
+  app.add_option("--render-nice", render_nice,
+                 "render threads' nice value above the display's and the window's, 0..19: they get a "
+                 "core as soon as they wake (Linux)")
+      ->capture_default_str();
   app.add_flag("--temporal,!--no-temporal", temporal,
                "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they "
                "differ (default on)");
@@ -62,6 +66,10 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
     error = "--max-samples-per-s: must be 0 (no cap) or positive";
     return false;
   }
+  if (render_nice < 0 || render_nice > 19) {
+    error = "--render-nice: must be 0..19";
+    return false;
+  }
   e.mode = *parsed;
   e.threads = threads > 0 ? threads : hardware_threads();
   e.chunk_size = chunk;
@@ -76,6 +84,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
   blend.reproject = reproject;
   blend.reproject_budget = reproject_budget;
   e.max_samples_per_s = max_samples_per_s;
+  e.render_nice = render_nice;
   blend.temporal = temporal;
   blend.denoise = denoise;
   blend.discontinuity = !no_discontinuity;

@@ -24,6 +24,7 @@ struct EngineFlags {
   bool closed_loop = false;
   float reproject_budget = 0.0f;  // share of one core for reprojection (0: unlimited)
   double max_samples_per_s = 0.0; // frameless sample-rate cap (0: none)
+  int render_nice = kDefaultRenderNice;  // render threads step aside for the display and the window
   bool no_jitter = false;
   bool no_packets = false;
   bool adaptive = false;

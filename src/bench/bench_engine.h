@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bench/bench_options.h"
+#include "frameless/engine_config.h"
 
 namespace frameless::bench {
 
@@ -21,6 +22,8 @@ struct EngineBenchOptions {
   // Further image sizes (WxH) at which the display thread's CPU is measured during the move with
   // reprojection, beside 1280x720: where the 25 %-of-a-core goal holds on this machine.
   std::vector<std::string> moving_sizes;
+  // EngineConfig::render_nice of every run.
+  int render_nice = kDefaultRenderNice;
   bool json = false;
 };
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bench/bench_options.h"
+#include "frameless/engine_config.h"
 
 namespace frameless::bench {
 
@@ -35,6 +36,8 @@ struct MotionOptions {
   std::vector<double> sample_fractions = {0.5, 0.25, 0.125};
   // The budgeted row's reprojection budget, a fraction of one core (BlendConfig::reproject_budget).
   double budget = kBenchReprojectBudget;
+  // EngineConfig::render_nice of every run.
+  int render_nice = kDefaultRenderNice;
   bool quick = false;
 };
 

@@ -9,6 +9,7 @@
 #include "core/base/rng.h"
 #include "core/scene/dynamic.h"
 #include "frameless/engine_impl.h"
+#include "frameless/thread_priority.h"
 
 namespace frameless {
 
@@ -181,20 +182,27 @@ void Engine::start() {
     e.generation.fetch_add(1, std::memory_order_release);
   }
   e.running = true;
+  // Every render thread first steps aside for interactive threads (EngineConfig::render_nice).
+  const auto launch = [&e](void (*body)(Engine::Impl&, int), int t) {
+    e.thread_handles.emplace_back([&e, body, t] {
+      lower_thread_priority(e.cfg.render_nice);
+      body(e, t);
+    });
+  };
   if (e.cfg.deterministic) {
     e.pool_quit = false;
     e.pool_generation = 0;
     for (int t = 0; t < e.threads; ++t)
-      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(pool_thread_main, std::ref(e), t);
+      if (owns_thread(e.cfg, t)) launch(pool_thread_main, t);
   } else if (e.cfg.mode == RenderMode::frameless) {
     for (int t = 0; t < e.threads; ++t)
-      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(frameless_thread_main, std::ref(e), t);
+      if (owns_thread(e.cfg, t)) launch(frameless_thread_main, t);
   } else if (e.cfg.owned_count >= 0) {
     // Conventional across a cluster: a client's threads render the pieces its feed hands them;
     // a master (no threads) assembles the frames from what the clients send (ingest_piece).
     if (e.cfg.owned_count > 0 && !e.feed) throw std::logic_error("start: a cluster client needs a piece feed");
     for (int t = 0; t < e.threads; ++t)
-      if (owns_thread(e.cfg, t)) e.thread_handles.emplace_back(piece_thread_main, std::ref(e), t);
+      if (owns_thread(e.cfg, t)) launch(piece_thread_main, t);
   } else {
     e.barrier_arrive_ns.assign(size_t(e.threads), 0);
     e.barrier_leave_ns.assign(size_t(e.threads), 0);
@@ -204,7 +212,7 @@ void Engine::start() {
       a->store(0, std::memory_order_relaxed);
     e.barrier = std::make_unique<std::barrier<Impl::FrameDone>>(e.threads, Impl::FrameDone{&e});
     for (int t = 0; t < e.threads; ++t)
-      e.thread_handles.emplace_back(conventional_thread_main, std::ref(e), t);
+      launch(conventional_thread_main, t);
   }
 }
 

@@ -38,6 +38,9 @@ struct AdaptiveConfig {
                                  // least once per max_skips + 1 sweeps of its thread (1..255)
 };
 
+// EngineConfig::render_nice unless set.
+inline constexpr int kDefaultRenderNice = 0;
+
 struct EngineConfig {
   int width = 640;                  // image width in pixels (1..16384)
   int height = 480;                 // image height in pixels (1..16384)
@@ -73,6 +76,10 @@ struct EngineConfig {
   // (each thread sleeps when ahead of its share); 0: as fast as they can. For measuring error
   // against sample rate (bench motion) and for leaving CPU to other work.
   double max_samples_per_s = 0.0;
+  // Render threads raise their own nice value by this much (Linux, 0..19), so the display thread
+  // and a window get a core as soon as they wake: a display that reprojects keeps up with the
+  // camera instead of waiting out render threads' time slices (docs/motion.md). 0: the process's.
+  int render_nice = kDefaultRenderNice;
   // Cluster (src/cluster): this process renders only threads [owned_first, owned_first +
   // owned_count) of the `threads`-thread partition; the other threads' pixels are rendered by
   // other processes and arrive through Engine::ingest() (frameless) or ingest_piece()

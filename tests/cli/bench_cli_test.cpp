@@ -54,7 +54,7 @@ TEST(BenchCli, EngineJsonHasTheNamedKeys) {
 
 TEST(BenchCli, EngineBadArgumentsAreOneLine) {
   for (const char* args : {"bench engine --size 0x48", "bench engine --seconds -1", "bench engine --budget 0",
-                           "bench engine --budget 2", "bench engine no_such_scene.json",
+                           "bench engine --budget 2", "bench engine --render-nice 20", "bench engine no_such_scene.json",
                            "bench engine --moving-sizes 640x0", "bench engine --moving-sizes 640x360 big"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
@@ -66,7 +66,8 @@ TEST(BenchCli, EngineBadArgumentsAreOneLine) {
 TEST(BenchCli, MotionBadArgumentsAreOneLine) {
   const std::filesystem::path out = std::filesystem::temp_directory_path() / "frameless_motion_bad_args";
   std::filesystem::remove_all(out);
-  for (const std::string flags : {"--budget 0", "--budget 1.5", "--budget nan", "--budget x"}) {
+  for (const std::string flags :
+       {"--budget 0", "--budget 1.5", "--budget nan", "--budget x", "--render-nice 20", "--render-nice -3"}) {
     const CommandResult r = run_frameless("bench motion --quick " + flags + " --out " + out.string());
     EXPECT_NE(r.exit_code, 0) << flags;
     EXPECT_EQ(count_lines(r.output), 1) << flags << ": " << r.output;

@@ -16,7 +16,8 @@ TEST(EngineFlagsCli, BadMotionSettingsAreOneLineErrors) {
   };
   for (const Case& c : {Case{"--reproject-budget 2", "--reproject-budget"},
                         Case{"--reproject-budget -0.5", "--reproject-budget"},
-                        Case{"--max-samples-per-s -5", "--max-samples-per-s"}}) {
+                        Case{"--max-samples-per-s -5", "--max-samples-per-s"},
+                        Case{"--render-nice 20", "--render-nice"}, Case{"--render-nice -1", "--render-nice"}}) {
     SCOPED_TRACE(c.args);
     const auto dir = fresh_dir("engine_flags_bad");
     const auto out = dir / "capture";
@@ -30,13 +31,13 @@ TEST(EngineFlagsCli, BadMotionSettingsAreOneLineErrors) {
   }
 }
 
-// Both settings run: a capped, budgeted capture still writes its frames.
+// The settings run: a capped, budgeted capture with render threads at nice 5 still writes its frames.
 TEST(EngineFlagsCli, CappedBudgetedCaptureWritesItsFrames) {
   const auto dir = fresh_dir("engine_flags_ok");
   const auto out = dir / "capture";
   const CommandResult r = run_frameless(
       "capture default --size 32x24 --duration 0.3 --refresh 20 --no-mp4 --orbit 20 "
-      "--reproject-budget 0.2 --max-samples-per-s 20000 --out " + out.string());
+      "--reproject-budget 0.2 --max-samples-per-s 20000 --render-nice 5 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(out / "manifest.json")) << r.output;
 }
