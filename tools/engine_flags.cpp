@@ -26,8 +26,8 @@ void EngineFlags::add_to(CLI::App& app) {
                  "(0: as fast as they can)")
       ->capture_default_str();
   app.add_option("--render-nice", render_nice,
-                 "render threads' nice value above the display's and the window's, 0..19: they get a "
-                 "core as soon as they wake (Linux)")
+                 "render threads' nice value above the display's and the window's, 0..19, so those "
+                 "get a core as soon as they wake (Linux; docs/engine.md)")
       ->capture_default_str();
   app.add_flag("--temporal,!--no-temporal", temporal,
                "per-pixel temporal blend weight: alpha/2 where samples agree, up to 1 where they "
