@@ -135,8 +135,9 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   r.cpu_fraction = (s1.cpu_seconds - s0.cpu_seconds) / wall;
   r.reprojections_per_s = double(s1.reproject.reprojections - s0.reproject.reprojections) / wall;
   r.reproject_fraction = (s1.reproject.cpu_seconds - s0.reproject.cpu_seconds) / wall;
-  r.phases = ReprojectTimes::mean_between(s1.reproject.phase_ms, s0.reproject.phase_ms,
-                                          double(s1.reproject.reprojections - s0.reproject.reprojections));
+  const double moves = double(s1.reproject.reprojections - s0.reproject.reprojections);
+  for (int i = 0; i < ReprojectTimes::kPhases; ++i)
+    r.phases.ms[i] = moves > 0 ? (s1.reproject.phase_ms.ms[i] - s0.reproject.phase_ms.ms[i]) / moves : 0.0;
   r.updates_per_s = updates / wall;
   r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
   r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
@@ -223,7 +224,7 @@ int run_engine(const EngineBenchOptions& a) {
     // The moving display with reprojection at further sizes (its cost grows with the pixels).
     nlohmann::json by_size = nlohmann::json::array();
     for (const auto& [w, h] : moving_sizes) {
-      std::vector<double> size_cpu, size_rate, size_part, size_phase[5];
+      std::vector<double> size_cpu, size_rate, size_part, size_phase[ReprojectTimes::kPhases];
       for (int k = 0; k < std::max(1, a.repeats); ++k) {
         note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
               ", camera moving at 30 Hz, with reprojection").c_str());
@@ -231,22 +232,19 @@ int run_engine(const EngineBenchOptions& a) {
         size_cpu.push_back(m.cpu_fraction);
         size_rate.push_back(m.reprojections_per_s);
         size_part.push_back(m.reproject_fraction);
-        const double phase[5] = {m.phases.splat, m.phases.cracks, m.phases.disocclusions, m.phases.pixel_pass,
-                                 m.phases.slot_pass};
-        for (int i = 0; i < 5; ++i) size_phase[i].push_back(phase[i]);
+        for (int i = 0; i < ReprojectTimes::kPhases; ++i) size_phase[i].push_back(m.phases.ms[i]);
       }
       const double rate = median(size_rate), part = median(size_part);
+      // Wall time of each phase (the display thread may wait for a core inside them).
+      nlohmann::json phases;
+      for (int i = 0; i < ReprojectTimes::kPhases; ++i) phases[ReprojectTimes::kNames[i]] = median(size_phase[i]);
       by_size.push_back({{"width", w},
                          {"height", h},
                          {"display_cpu_fraction", median(size_cpu)},
                          {"reproject_cpu_fraction", part},
                          {"reprojections_per_s", rate},
                          {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0},
-                         // Wall time of each phase (the display thread may wait for a core inside them).
-                         {"phases_wall_ms",
-                          {{"splat", median(size_phase[0])}, {"cracks", median(size_phase[1])},
-                           {"disocclusions", median(size_phase[2])}, {"pixel_pass", median(size_phase[3])},
-                           {"slot_pass", median(size_phase[4])}}}});
+                         {"phases_wall_ms", phases}});
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -321,18 +319,14 @@ int run_engine(const EngineBenchOptions& a) {
       std::printf("  with a reprojection budget of %g%% of a core (--reproject-budget %g): %.2f%% of one "
                   "core, %.1f reprojections/s\n",
                   100.0 * a.budget, a.budget, 100.0 * median(cpu_budget), median(reproj_rate_budget));
-      for (const nlohmann::json& m : by_size)
+      for (const nlohmann::json& m : by_size) {
         std::printf("  moving with reprojection at %dx%d: %.2f%% of one core (%.2f%% reprojecting, %.1f "
-                    "reprojections/s, %.1f ms each)\n",
+                    "reprojections/s, %.1f ms each)\n    its phases (wall ms a reprojection):",
                     m["width"].get<int>(), m["height"].get<int>(), 100.0 * m["display_cpu_fraction"].get<double>(),
                     100.0 * m["reproject_cpu_fraction"].get<double>(), m["reprojections_per_s"].get<double>(),
                     m["ms_per_reprojection"].get<double>());
-      for (const nlohmann::json& m : by_size) {
-        const nlohmann::json& p = m["phases_wall_ms"];
-        std::printf("    phases at %dx%d (wall ms a reprojection): splat %.2f, cracks %.2f, disocclusions %.2f, "
-                    "gather by pixel %.2f, by slot %.2f\n",
-                    m["width"].get<int>(), m["height"].get<int>(), p["splat"].get<double>(), p["cracks"].get<double>(),
-                    p["disocclusions"].get<double>(), p["pixel_pass"].get<double>(), p["slot_pass"].get<double>());
+        for (const char* name : ReprojectTimes::kNames) std::printf(" %s %.2f", name, m["phases_wall_ms"][name].get<double>());
+        std::printf("\n");
       }
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));

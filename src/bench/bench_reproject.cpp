@@ -37,12 +37,6 @@ struct Timing {
   ReprojectTimes phases;              // medians of each phase over the changes
 };
 
-const char* const kPhaseNames[5] = {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"};
-double* phase(ReprojectTimes& t, int i) {
-  double* all[5] = {&t.splat, &t.cracks, &t.disocclusions, &t.pixel_pass, &t.slot_pass};
-  return all[i];
-}
-
 // `changes` reprojections along the orbit, the image moved each time (as the display does).
 Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h,
                     const uint32_t* pixel_of, const uint32_t* slot_of, std::vector<ScenePoint> points) {
@@ -53,7 +47,7 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   for (size_t s = 0; s < n; ++s) px[s].epoch = 1;
   Reprojector r;
   EpochCensus census;
-  std::vector<double> ms, phase_ms[5];
+  std::vector<double> ms, phase_ms[ReprojectTimes::kPhases];
   Camera camera = start;
   ReprojectStats last;
   for (int k = 0; k < o.changes + 2; ++k) {  // two untimed: first touches of the scratch memory
@@ -67,15 +61,14 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
     last = st;
     if (k >= 2) {
       ms.push_back(t);
-      ReprojectTimes times = r.last_times();
-      for (int i = 0; i < 5; ++i) phase_ms[i].push_back(*phase(times, i));
+      for (int i = 0; i < ReprojectTimes::kPhases; ++i) phase_ms[i].push_back(r.last_times().ms[i]);
     }
     px.swap(px_out), points.swap(points_out), marks.swap(marks_out);
   }
   Timing out;
   out.median_ms = median(ms);
   out.best_ms = *std::min_element(ms.begin(), ms.end());
-  for (int i = 0; i < 5; ++i) *phase(out.phases, i) = median(phase_ms[i]);
+  for (int i = 0; i < ReprojectTimes::kPhases; ++i) out.phases.ms[i] = median(phase_ms[i]);
   out.moved = double(last.moved) / double(n);
   out.disoccluded = double(last.disoccluded) / double(n);
   return out;
@@ -114,8 +107,7 @@ int run_reproject(const ReprojectOptions& o) {
       if (t.median_ms > 0) {
         j[name] = {{"median_ms", t.median_ms}, {"best_ms", t.best_ms}, {"ns_per_pixel", 1e6 * t.median_ms / px},
                    {"moved_fraction", t.moved}, {"disoccluded_fraction", t.disoccluded}};
-        ReprojectTimes phases = t.phases;
-        for (int i = 0; i < 5; ++i) j[name]["phases_ms"][kPhaseNames[i]] = *phase(phases, i);
+        for (int i = 0; i < ReprojectTimes::kPhases; ++i) j[name]["phases_ms"][ReprojectTimes::kNames[i]] = t.phases.ms[i];
       }
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
@@ -129,8 +121,9 @@ int run_reproject(const ReprojectOptions& o) {
                   name, t.median_ms, t.best_ms, 1e6 * t.median_ms / px, 3.0 * t.median_ms, 100.0 * t.moved,
                   100.0 * t.disoccluded);
       std::printf("  %-27s splat %.2f, cracks %.2f, disocclusions %.2f, gather by pixel %.2f, by slot %.2f ms\n",
-                  "  phases (medians)", t.phases.splat, t.phases.cracks, t.phases.disocclusions, t.phases.pixel_pass,
-                  t.phases.slot_pass);
+                  "  phases (medians)", t.phases.ms[ReprojectTimes::splat], t.phases.ms[ReprojectTimes::cracks],
+                  t.phases.ms[ReprojectTimes::disocclusions], t.phases.ms[ReprojectTimes::pixel_pass],
+                  t.phases.ms[ReprojectTimes::slot_pass]);
     }
   return 0;
 }

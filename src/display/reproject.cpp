@@ -276,9 +276,9 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   const size_t n = from.pixels();
   // Where the time goes (bench reproject): a clock read between phases.
   auto mark_time = std::chrono::steady_clock::now();
-  const auto lap = [&](double& ms) {
+  const auto lap = [&](ReprojectTimes::Phase phase) {
     const auto now = std::chrono::steady_clock::now();
-    ms = std::chrono::duration<double, std::milli>(now - mark_time).count();
+    times_.ms[phase] = std::chrono::duration<double, std::milli>(now - mark_time).count();
     mark_time = now;
   };
   times_ = {};
@@ -300,7 +300,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
     key_[t] = std::min(key_[t], make_key(d, uint32_t(p)));
   }
-  lap(times_.splat);
+  lap(ReprojectTimes::splat);
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
   fills_.clear();
@@ -315,7 +315,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       if (key_[t] == kHole) crack(uint32_t(t), w, h);
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
-  lap(times_.cracks);
+  lap(ReprojectTimes::cracks);
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
   // farthest landed pixel within `max_fill` pixels; none there: it keeps its old content.
   fills_.clear();
@@ -335,8 +335,8 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     if (best != kNone) fills_.push_back({t, key_[best]});
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
-  lap(times_.disocclusions);
-  // Gather into `to` pixel by pixel (points and marks stream). Moved content keeps its exact
+  lap(ReprojectTimes::disocclusions);
+  // Gather into `to`: points and marks by pixel, the pixels by slot. Moved content keeps its exact
   // point: snapping it to the pixel centre made the image drift by up to half a pixel per
   // reprojection (a random walk; worse error in bench motion although fewer holes). The engine's
   // sequence numbers stay with the slots (the display keeps them apart from the pixels).
@@ -371,13 +371,13 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       to.px[t] = from.px[place(t)];
       if (census) census->add(to.px[t].epoch);
     }
-    lap(times_.pixel_pass);
+    lap(ReprojectTimes::pixel_pass);
   } else {
     // Two passes: points and marks by pixel, then the pixels by slot. One walk doing both (either
     // order) missed the cache on every pixel: the slot order is a shuffle of 64-pixel chunks.
     source_slot_.resize(n);
     for (size_t t = 0; t < n; ++t) source_slot_[t] = place(t);
-    lap(times_.pixel_pass);
+    lap(ReprojectTimes::pixel_pass);
     // Slots stream; the source slot of the pixel kAhead slots on is fetched early, and its
     // content kAhead / 2 slots on.
     constexpr size_t kAhead = 128;
@@ -388,7 +388,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
       if (census) census->add(to.px[ts].epoch);
     }
-    lap(times_.slot_pass);
+    lap(ReprojectTimes::slot_pass);
   }
   ReprojectStats stats;
   for (int m = 0; m < 256; ++m) {

@@ -96,21 +96,16 @@ struct SlotImage {
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }
 };
 
-// Wall milliseconds of a reprojection's phases: the splat, the crack and disocclusion searches,
-// the gather's pass by pixel (points and marks; with an identity layout, the whole gather) and its
-// pass by slot (the pixels; 0 with an identity layout).
+// Wall milliseconds of a reprojection's phases, by Phase: the splat, the crack and disocclusion
+// searches, the gather's pass by pixel (points and marks; with an identity layout, the whole
+// gather) and its pass by slot (the pixels; 0 with an identity layout).
 struct ReprojectTimes {
-  double splat = 0, cracks = 0, disocclusions = 0, pixel_pass = 0, slot_pass = 0;
+  enum Phase { splat, cracks, disocclusions, pixel_pass, slot_pass, kPhases };
+  static constexpr const char* kNames[kPhases] = {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"};
+  double ms[kPhases] = {};
   ReprojectTimes& operator+=(const ReprojectTimes& o) {
-    splat += o.splat, cracks += o.cracks, disocclusions += o.disocclusions;
-    pixel_pass += o.pixel_pass, slot_pass += o.slot_pass;
+    for (int i = 0; i < kPhases; ++i) ms[i] += o.ms[i];
     return *this;
-  }
-  // (a - b) / n: the mean phases of n reprojections between two totals.
-  static ReprojectTimes mean_between(const ReprojectTimes& a, const ReprojectTimes& b, double n) {
-    const double k = n > 0 ? 1.0 / n : 0.0;
-    return {(a.splat - b.splat) * k, (a.cracks - b.cracks) * k, (a.disocclusions - b.disocclusions) * k,
-            (a.pixel_pass - b.pixel_pass) * k, (a.slot_pass - b.slot_pass) * k};
   }
 };
 
@@ -133,7 +128,7 @@ class Reprojector {
   // there is one, else picks by the number of holes. All give the same image.
   enum class Search { automatic, window, rows };
   void set_search(Search s) { search_ = s; }
-  // AVX-512 paths (splat, hole scan, disocclusion window) where the build has them; off:
+  // AVX-512 paths (splat, crack search, disocclusion window) where the build has them; off:
   // the scalar code, which they must match exactly (tested).
   void set_vectorized(bool on) { vectorized_ = on; }
   // The phases of the last run().
