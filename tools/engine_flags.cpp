@@ -66,7 +66,7 @@ bool EngineFlags::apply(EngineConfig& e, BlendConfig& blend, std::string& error)
     error = "--max-samples-per-s: must be 0 (no cap) or positive";
     return false;
   }
-  if (render_nice < 0 || render_nice > 19) {
+  if (render_nice < 0 || render_nice > kMaxRenderNice) {
     error = "--render-nice: must be 0..19";
     return false;
   }

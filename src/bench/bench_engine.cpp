@@ -153,7 +153,7 @@ int run_engine(const EngineBenchOptions& a) {
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (!(a.seconds > 0 && a.seconds <= 600)) return report_error("--seconds: must be in (0, 600]");
   if (!(a.budget > 0 && a.budget <= 1)) return report_error("--budget: must be in (0, 1]");
-  if (a.render_nice < 0 || a.render_nice > 19) return report_error("--render-nice: must be 0..19");
+  if (a.render_nice < 0 || a.render_nice > kMaxRenderNice) return report_error("--render-nice: must be 0..19");
   std::vector<std::pair<int, int>> moving_sizes;
   for (const std::string& size : a.moving_sizes) {
     int w = 0, h = 0;

@@ -60,7 +60,7 @@ int run_motion(const MotionOptions& options) {
     return report_error("--camera-hz: must be in [1, 240]");
   if (!(a.refresh >= 1 && a.refresh <= 240)) return report_error("--refresh: must be in [1, 240]");
   if (!(a.budget > 0 && a.budget <= 1)) return report_error("--budget: must be in (0, 1]");
-  if (a.render_nice < 0 || a.render_nice > 19) return report_error("--render-nice: must be 0..19");
+  if (a.render_nice < 0 || a.render_nice > kMaxRenderNice) return report_error("--render-nice: must be 0..19");
   if (!(a.dolly > 0 && std::isfinite(a.orbit))) return report_error("--dolly: must be > 0");
   if (!(a.alpha > 0 && a.alpha <= 1)) return report_error("--alpha: must be in (0, 1]");
   if (!(a.percent >= 0.01 && a.percent <= 100))

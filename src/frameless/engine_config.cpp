@@ -26,7 +26,7 @@ std::string validate(const EngineConfig& c) {
   if (!(c.max_samples_per_s >= 0.0 && c.max_samples_per_s < 1e12))
     return "max_samples_per_s: must be 0 (no limit) or positive";
   if (c.motion_history < 2 || c.motion_history > 65536) return "motion_history: must be 2..65536";
-  if (c.render_nice < 0 || c.render_nice > 19) return "render_nice: must be 0..19";
+  if (c.render_nice < 0 || c.render_nice > kMaxRenderNice) return "render_nice: must be 0..19";
   if (c.owned_count >= 0) {
     if (c.threads < 1) return "owned_count: needs an explicit thread count";
     if (c.owned_first < 0 || c.owned_first + c.owned_count > c.threads)

@@ -38,8 +38,9 @@ struct AdaptiveConfig {
                                  // least once per max_skips + 1 sweeps of its thread (1..255)
 };
 
-// EngineConfig::render_nice unless set.
+// EngineConfig::render_nice unless set, and its largest value (Linux's nice range ends at 19).
 inline constexpr int kDefaultRenderNice = 0;
+inline constexpr int kMaxRenderNice = 19;
 
 struct EngineConfig {
   int width = 640;                  // image width in pixels (1..16384)
