@@ -21,6 +21,27 @@
 namespace frameless {
 namespace {
 
+// The triangles' vertices in leaf order (triangle i's three corners in leaf_tris[i]), copied in
+// parallel chunks when the build has an executor.
+void lay_out_leaf_triangles(const Geometry& geom, const AccelConfig& config, std::vector<LeafTriangle>& out) {
+  const size_t n = geom.num_triangles();
+  std::vector<LeafTriangle>().swap(out);  // not two copies at the peak of a rebuild
+  resize_huge(out, n);
+  constexpr size_t kChunk = size_t(1) << 16;
+  const auto body = [&](size_t c) {
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+      const UVec3 t = geom.triangles[i];
+      out[i] = {{geom.positions[t.x], geom.positions[t.y], geom.positions[t.z]}};
+    }
+  };
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  if (config.parallel_for) {
+    config.parallel_for(chunks, body);
+  } else {
+    for (size_t c = 0; c < chunks; ++c) body(c);
+  }
+}
+
 struct StackEntry {
   uint32_t ref;
   uint32_t info;
@@ -64,6 +85,7 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     std::abort();
   }
   im.nodes = std::move(bvh.nodes);
+  lay_out_leaf_triangles(geom, config, im.leaf_tris);
   im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
   if (!im.nodes.empty())
     for (int a = 0; a < 3; ++a) {
@@ -79,7 +101,7 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   s.nodes = im.nodes.size();
   s.leaves = bvh.leaves;
   s.depth = bvh.depth;
-  s.bytes = im.nodes.size() * sizeof(Bvh8Node);
+  s.bytes = im.nodes.size() * sizeof(Bvh8Node) + im.leaf_tris.size() * sizeof(LeafTriangle);
   s.geometry_bytes = geom.positions.size() * sizeof(Vec3) + geom.triangles.size() * sizeof(UVec3) +
                      geom.triangle_material.size() * sizeof(uint16_t) +
                      geom.spheres.size() * sizeof(Sphere) +
@@ -94,12 +116,11 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
 namespace {
 
 template <bool kAnyHit, bool kCount = false>
-bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const Ray& ray,
-              Hit& hit, const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
+bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_tris,
+              const Geometry& g, const Ray& ray, Hit& hit, const Accel::AlphaTest& alpha,
+              TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
-  const Vec3* pos = g.positions.data();
-  const UVec3* tris = g.triangles.data();
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
   const BoxRay br = make_box_ray(ray);
@@ -129,6 +150,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
   for (;;) {
     if (info == 0) {
       const Bvh8Node& node = nodes[ref];
+      __builtin_prefetch(&node.child[0]);  // the children's line, needed once the boxes are tested
       if constexpr (kCount) ++counts->nodes;
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
@@ -204,9 +226,9 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const Geometry& g, const 
     } else {
       if constexpr (kCount) counts->prims += info;
       for (uint32_t k = 0; k < info; ++k) {
-        const UVec3 tri = tris[ref + k];
+        const LeafTriangle& tri = leaf_tris[ref + k];
         float t, u, v;
-        if (intersect_triangle(tr, pos[tri.x], pos[tri.y], pos[tri.z], tmin, tmax_box, t, u, v) &&
+        if (intersect_triangle(tr, tri.p[0], tri.p[1], tri.p[2], tmin, tmax_box, t, u, v) &&
             (kAnyHit ? t <= tmax : closer_hit(t, ref + k, found, hit, ray.tmax))) {
           if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
           if constexpr (kAnyHit) return true;
@@ -235,7 +257,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);
   else
-    found = impl_->geom && traverse<false>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha);
+    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, hit, impl_->alpha);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
@@ -244,7 +266,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
   if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
-  if (impl_->geom && traverse<true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha))
+  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, unused, impl_->alpha))
     return true;
   return occluded_instances(ray, top);
 }
@@ -252,14 +274,14 @@ bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
   return impl_->geom &&
-         traverse<false, true>(impl_->nodes, *impl_->geom, ray, hit, impl_->alpha, &counts);
+         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, hit, impl_->alpha, &counts);
 }
 
 bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->occluded(ray, &counts);
   Hit unused;
   return impl_->geom &&
-         traverse<true, true>(impl_->nodes, *impl_->geom, ray, unused, impl_->alpha, &counts);
+         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }

@@ -99,9 +99,18 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 #endif
 }
 
+// A triangle's three vertices, stored in leaf order beside the tree: a leaf's triangles are one
+// contiguous run, so a ray reaching a leaf waits for one fetch, not for the indices and then the
+// vertices they name (two dependent misses on a big or scattered mesh).
+struct LeafTriangle {
+  Vec3 p[3];
+};
+static_assert(sizeof(LeafTriangle) == 36);
+
 struct Accel::Impl {
   const Geometry* geom = nullptr;
   std::vector<Bvh8Node> nodes;     // the BVH (empty when the grid is in use)
+  std::vector<LeafTriangle> leaf_tris;  // by triangle index (leaf order), with the BVH
   std::unique_ptr<GridAccel> grid;  // the hybrid grid, when chosen
   AccelStats stats;
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces

@@ -275,10 +275,8 @@ inline uint32_t triangle_lanes(const Packet& p, const Vec3& p0, const Vec3& p1, 
 }
 
 template <bool kAnyHit>
-void traverse_packet(const Bvh8Node* nodes, const Geometry& g, const Accel::AlphaTest& alpha,
-                     const Ray* rays, Packet& p, Hit* hits, bool* occ) {
-  const Vec3* pos = g.positions.data();
-  const UVec3* tris = g.triangles.data();
+void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Geometry& g,
+                     const Accel::AlphaTest& alpha, const Ray* rays, Packet& p, Hit* hits, bool* occ) {
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
   alignas(32) float tmax_box[8];
@@ -359,12 +357,12 @@ void traverse_packet(const Bvh8Node* nodes, const Geometry& g, const Accel::Alph
       lanes &= active;
       if (!lanes) break;
       const uint32_t prim = e.ref + k;
-      const UVec3 tri = tris[prim];
+      const Vec3* tri = leaf_tris[prim].p;
       if (__builtin_popcount(lanes) <= 2) {  // few rays in this leaf: the scalar test is cheaper
         for (uint32_t l = lanes; l; l &= l - 1) {
           const int i = __builtin_ctz(l);
           float t, u, v;
-          if (intersect_triangle(p.tri(i), pos[tri.x], pos[tri.y], pos[tri.z], rays[i].tmin,
+          if (intersect_triangle(p.tri(i), tri[0], tri[1], tri[2], rays[i].tmin,
                                  tmax_box[i], t, u, v))
             offer(i, t, u, v, prim);
         }
@@ -372,14 +370,14 @@ void traverse_packet(const Bvh8Node* nodes, const Geometry& g, const Accel::Alph
       }
       __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
       uint32_t redo = 0;
-      uint32_t hit_lanes = triangle_lanes(p, pos[tri.x], pos[tri.y], pos[tri.z], tv, uv, vv, redo) & lanes;
+      uint32_t hit_lanes = triangle_lanes(p, tri[0], tri[1], tri[2], tv, uv, vv, redo) & lanes;
       redo &= lanes;
       if (!(hit_lanes | redo)) continue;
       alignas(32) float ts[8], us[8], vs[8];
       _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
       for (uint32_t r = redo; r; r &= r - 1) {  // on an edge: the scalar test decides in double
         const int i = __builtin_ctz(r);
-        if (intersect_triangle(p.tri(i), pos[tri.x], pos[tri.y], pos[tri.z], rays[i].tmin,
+        if (intersect_triangle(p.tri(i), tri[0], tri[1], tri[2], rays[i].tmin,
                                tmax_box[i], ts[i], us[i], vs[i]))
           hit_lanes |= 1u << i;
       }
@@ -416,7 +414,7 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTo
     Packet p;
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) hits[i] = Hit{};
-      traverse_packet<false>(im.nodes.data(), *im.geom, im.alpha, rays, p, hits, nullptr);
+      traverse_packet<false>(im.nodes.data(), im.leaf_tris.data(), *im.geom, im.alpha, rays, p, hits, nullptr);
       if ((top = top_in_use(top)))  // instances ray by ray, in the order a single ray takes
         for (int i = 0; i < n; ++i) intersect_instances(*top, rays[i], hits[i], hits[i].valid());
       return;
@@ -435,7 +433,7 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const Instan
     Packet p;
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) occluded[i] = false;
-      traverse_packet<true>(im.nodes.data(), *im.geom, im.alpha, rays, p, nullptr, occluded);
+      traverse_packet<true>(im.nodes.data(), im.leaf_tris.data(), *im.geom, im.alpha, rays, p, nullptr, occluded);
       if ((top = top_in_use(top)))
         for (int i = 0; i < n; ++i) occluded[i] = occluded[i] || frameless::occluded_instances(*top, rays[i]);
       return;
