@@ -168,6 +168,37 @@ TEST(Accel, RebuildSeesMovedVertices) {
   EXPECT_GT(hits, 1000);
 }
 
+// Shadow rays descend into the nearest box first: along a row of clusters whose boxes all hold
+// the ray, only the nearest one blocks it, so the walk tests that cluster's triangle and no
+// other, whichever way along the row the ray goes (in the builder's slot order one direction
+// would meet the far clusters first).
+TEST(Accel, ShadowRaysTryTheNearestBoxFirst) {
+  Geometry g;
+  for (int c = 0; c < 8; ++c) {
+    const float x = 10.0f * float(c);
+    if (c == 3) {  // the blocker: one triangle across the axis
+      add_triangle(g, {x, -1.0f, -1.0f}, {x, 1.0f, -1.0f}, {x, 0.0f, 1.0f});
+      continue;
+    }
+    // A ring around the axis: its box holds the axis, none of its triangles does.
+    add_triangle(g, {x, 0.2f, -1.0f}, {x, 1.0f, -1.0f}, {x, 0.6f, 1.0f});
+    add_triangle(g, {x, -0.2f, -1.0f}, {x, -1.0f, -1.0f}, {x, -0.6f, 1.0f});
+    add_triangle(g, {x, -1.0f, 0.2f}, {x, 1.0f, 0.2f}, {x, 0.0f, 1.0f});
+    add_triangle(g, {x, -1.0f, -0.2f}, {x, 1.0f, -0.2f}, {x, 0.0f, -1.0f});
+  }
+  Accel accel;
+  accel.build(g);
+  for (const float dir : {1.0f, -1.0f}) {
+    Ray r;
+    r.org = {30.0f - 5.0f * dir, 0.0f, 0.0f};  // just before the blocker
+    r.dir = {dir, 0.0f, 0.0f};
+    r.tmax = 100.0f;
+    TraversalCounts counts;
+    ASSERT_TRUE(accel.occluded_counted(r, counts)) << dir;
+    EXPECT_EQ(counts.prims, 1u) << "direction " << dir;
+  }
+}
+
 TEST(Accel, MatchesBruteForceOnTriangles) {
   expect_matches_brute_force(random_triangles(1, 100, false), 11, kRaysPerScene);
 }

@@ -179,14 +179,21 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
           continue;
         }
         if constexpr (kAnyHit) {
-          // Order is irrelevant for any-hit: push the rest, descend into the first.
+          // Any hit ends the walk: descend into the nearest box (the likeliest to block), push the rest.
+          uint32_t near = i;
+          for (uint32_t m = mask; m; m &= m - 1) {
+            const uint32_t j = uint32_t(__builtin_ctz(m));
+            if (dist[j] < dist[near]) near = j;
+          }
+          mask |= 1u << i;
+          mask &= ~(1u << near);
           do {
             const uint32_t j = uint32_t(__builtin_ctz(mask));
             stack[sp++] = {node.child[j], node.info[j], dist[j]};
             mask &= mask - 1;
           } while (mask);
-          ref = node.child[i];
-          info = node.info[i];
+          ref = node.child[near];
+          info = node.info[near];
           continue;
         } else {
           // Two or more: sort near to far, push far ones, descend into the nearest.
