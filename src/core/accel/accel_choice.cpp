@@ -79,6 +79,7 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   }
   if (config.kind == AccelKind::kGrid) {
     std::vector<Bvh8Node>().swap(im.nodes);
+    std::vector<LeafTriangle>().swap(im.leaf_tris);  // the grid reads the vertices themselves
     im.geom = &geom;
     build_grid();
     AccelStats& s = im.stats;
@@ -136,6 +137,7 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   s.grid_counts = grid_c;
   if (use_grid) {
     std::vector<Bvh8Node>().swap(im.nodes);
+    std::vector<LeafTriangle>().swap(im.leaf_tris);  // the grid reads the vertices themselves
     s.structure = AccelKind::kGrid;
     s.bytes = s.grid_bytes;
     s.nodes = s.leaves = 0;
