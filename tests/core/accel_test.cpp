@@ -168,6 +168,27 @@ TEST(Accel, RebuildSeesMovedVertices) {
   EXPECT_GT(hits, 1000);
 }
 
+// A triangle naming a vertex that does not exist (readers refuse them; the BVH must not trust
+// that) is never hit, and its vertices are never read: a ray through its point box at the origin
+// misses it (ASan would see the read past the vertices).
+TEST(Accel, TriangleWithAMissingVertexIsMissed) {
+  Geometry g;
+  add_triangle(g, {5.0f, -1.0f, 0.0f}, {7.0f, -1.0f, 0.0f}, {6.0f, 1.0f, 0.0f});
+  g.triangles.push_back({0u, 1u, 99u});
+  g.triangle_material.push_back(0);
+  Accel accel;
+  accel.build(g);
+  Ray r;
+  r.org = {0.0f, 0.0f, -5.0f};
+  r.dir = {0.0f, 0.0f, 1.0f};
+  Hit h;
+  EXPECT_FALSE(accel.intersect(r, h));
+  EXPECT_FALSE(accel.occluded(r));
+  r.org = {6.0f, 0.0f, -5.0f};  // the good triangle is still there
+  ASSERT_TRUE(accel.intersect(r, h));
+  EXPECT_FLOAT_EQ(h.t, 5.0f);
+}
+
 // Shadow rays descend into the nearest box first: along a row of clusters whose boxes all hold
 // the ray, only the nearest one blocks it, so the walk tests that cluster's triangle and no
 // other, whichever way along the row the ray goes (in the builder's slot order one direction

@@ -21,40 +21,6 @@
 namespace frameless {
 namespace {
 
-// The triangles' vertices in leaf order (triangle i's three corners in leaf_tris[i]), copied in
-// parallel chunks when the build has an executor.
-void lay_out_leaf_triangles(const Geometry& geom, const AccelConfig& config, std::vector<LeafTriangle>& out) {
-  const size_t n = geom.num_triangles();
-  std::vector<LeafTriangle>().swap(out);  // not two copies at the peak of a rebuild
-  resize_huge(out, n);
-  constexpr size_t kChunk = size_t(1) << 16;
-  const auto body = [&](size_t c) {
-    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-      const UVec3 t = geom.triangles[i];
-      out[i] = {{geom.positions[t.x], geom.positions[t.y], geom.positions[t.z]}};
-    }
-  };
-  const size_t chunks = (n + kChunk - 1) / kChunk;
-  if (config.parallel_for) {
-    config.parallel_for(chunks, body);
-  } else {
-    for (size_t c = 0; c < chunks; ++c) body(c);
-  }
-}
-
-// Asks for child j of `node`: a node's four lines, or a triangle leaf's first two.
-inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Bvh8Node& node, uint32_t j) {
-  const uint8_t info = node.info[j];
-  if (info == 0) {
-    const char* a = reinterpret_cast<const char*>(nodes + node.child[j]);
-    for (int line = 0; line < 4; ++line) __builtin_prefetch(a + 64 * line);
-  } else if (!(info & (kPatchLeafBit | kSphereLeafBit))) {
-    const char* a = reinterpret_cast<const char*>(leaf_tris + node.child[j]);
-    __builtin_prefetch(a);
-    __builtin_prefetch(a + 64);
-  }
-}
-
 struct StackEntry {
   uint32_t ref;
   uint32_t info;
@@ -98,7 +64,7 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     std::abort();
   }
   im.nodes = std::move(bvh.nodes);
-  lay_out_leaf_triangles(geom, config, im.leaf_tris);
+  lay_out_leaf_triangles(geom, config, im.leaf_tris);  // after the permutation: in leaf order
   im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
   if (!im.nodes.empty())
     for (int a = 0; a < 3; ++a) {
@@ -163,14 +129,13 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
   for (;;) {
     if (info == 0) {
       const Bvh8Node& node = nodes[ref];
-      __builtin_prefetch(&node.child[0]);  // the children's line, needed once the boxes are tested
       if constexpr (kCount) ++counts->nodes;
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
       if (mask != 0) {
         // Every entered child is asked for now, so its fetch overlaps this node's work and the
         // siblings' (incoherent rays wait on each node and leaf in turn otherwise).
-        for (uint32_t m = mask; m; m &= m - 1) prefetch_child(nodes, leaf_tris, node, uint32_t(__builtin_ctz(m)));
+        for (uint32_t m = mask; m; m &= m - 1) prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m));
         uint32_t i = uint32_t(__builtin_ctz(mask));
         mask &= mask - 1;
         if (mask == 0) {  // one child entered: descend without touching the stack
@@ -181,12 +146,9 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
         if constexpr (kAnyHit) {
           // Any hit ends the walk: descend into the nearest box (the likeliest to block), push the rest.
           uint32_t near = i;
-          for (uint32_t m = mask; m; m &= m - 1) {
-            const uint32_t j = uint32_t(__builtin_ctz(m));
-            if (dist[j] < dist[near]) near = j;
-          }
-          mask |= 1u << i;
-          mask &= ~(1u << near);
+          for (uint32_t m = mask; m; m &= m - 1)
+            if (dist[__builtin_ctz(m)] < dist[near]) near = uint32_t(__builtin_ctz(m));
+          mask = (mask | 1u << i) & ~(1u << near);  // the entered children but the nearest
           do {
             const uint32_t j = uint32_t(__builtin_ctz(mask));
             stack[sp++] = {node.child[j], node.info[j], dist[j]};

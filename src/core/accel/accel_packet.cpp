@@ -332,12 +332,7 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const
           l &= lanes_entering(nd, j, p);
           if (l == 0) continue;
         }
-        if (nd.info[j] == 0) {  // asked for now, so the fetch overlaps the packet's other work
-          const char* a = reinterpret_cast<const char*>(nodes + nd.child[j]);
-          for (int line = 0; line < 4; ++line) __builtin_prefetch(a + 64 * line);
-        } else if (!(nd.info[j] & (kSphereLeafBit | kPatchLeafBit))) {
-          __builtin_prefetch(leaf_tris + nd.child[j]);
-        }
+        prefetch_child(nodes, leaf_tris, nd, j);
         PacketEntry x{nd.child[j], nd.info[j], dist[j], l};
         int k = m++;
         while (k > 0 && c[k - 1].t > x.t) c[k] = c[k - 1], --k;

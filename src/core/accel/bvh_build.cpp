@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <functional>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <new>
 #include <type_traits>
@@ -414,6 +415,20 @@ void permute_geometry(Geometry& g, const PrimRef* refs, size_t n, const AccelCon
       if (refs[i].id >= first_patch) out.push_back(std::move(g.patches[refs[i].id - first_patch]));
     g.patches.swap(out);
   }
+}
+
+void lay_out_leaf_triangles(const Geometry& g, const AccelConfig& config, std::vector<LeafTriangle>& out) {
+  const size_t n = g.num_triangles(), num_pos = g.positions.size();
+  std::vector<LeafTriangle>().swap(out);  // not two copies at the peak of a rebuild
+  resize_huge(out, n);
+  const Vec3 nan(std::numeric_limits<float>::quiet_NaN());
+  for_chunks(n, config, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const UVec3 t = g.triangles[i];
+      const bool ok = t.x < num_pos && t.y < num_pos && t.z < num_pos;
+      out[i] = ok ? LeafTriangle{{g.positions[t.x], g.positions[t.y], g.positions[t.z]}} : LeafTriangle{{nan, nan, nan}};
+    }
+  });
 }
 
 }  // namespace frameless

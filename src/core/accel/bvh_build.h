@@ -71,6 +71,11 @@ PrimRefArray make_prim_refs(const Geometry& geom, const AccelConfig& config);
 // config.parallel_for when given and the geometry is large.
 void permute_geometry(Geometry& geom, const PrimRef* refs, size_t n, const AccelConfig& config);
 
+// out[i] <- the three vertices of triangle i (call after permute_geometry: in leaf order); a
+// triangle with a vertex index out of range gets NaN corners, which every test misses. In
+// parallel chunks like permute_geometry.
+void lay_out_leaf_triangles(const Geometry& geom, const AccelConfig& config, std::vector<LeafTriangle>& out);
+
 // Kind of primitive id: 0 triangle, 1 sphere, 2 patch.
 inline int prim_kind(uint32_t id, uint32_t num_triangles, uint32_t first_patch) {
   return id < num_triangles ? 0 : id < first_patch ? 1 : 2;

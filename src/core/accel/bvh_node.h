@@ -28,6 +28,14 @@ struct alignas(64) Bvh8Node {
 };
 static_assert(sizeof(Bvh8Node) == 256, "Bvh8Node must stay four cache lines");
 
+// A triangle's three vertices, kept by the BVH in leaf order: a leaf's triangles are one
+// contiguous run, so a ray reaching a leaf waits for one fetch, not for the indices and then the
+// vertices they name (two dependent misses on a big or scattered mesh).
+struct LeafTriangle {
+  Vec3 p[3];
+};
+static_assert(sizeof(LeafTriangle) == 36);
+
 inline void clear_node(Bvh8Node& n) {
   for (int i = 0; i < kBvhWidth; ++i) {
     for (int a = 0; a < 3; ++a) {
