@@ -182,7 +182,10 @@ TEST(Panels, TransferFunctionControlsChangeTheVolume) {
   const ExrImage a = screenshot(grey, log), b = screenshot(clear, log), c = screenshot(hot, log);
   EXPECT_GT(mean_difference(a, b), 0.02) << log;  // fully transparent: the phantom is gone
   EXPECT_GT(mean_difference(b, c), 0.02) << log;  // the hot preset shows it again, in colour
-  EXPECT_GT(channel_mean(c, "R", 0, c.width), channel_mean(c, "B", 0, c.width));
+  // The preset turns the image toward red: judged by the change from the clear image, which holds
+  // while pixels still fill in (under a loaded CI only a quarter had: R 0.561 < B 0.569 yet).
+  auto red_minus_blue = [](const ExrImage& e) { return channel_mean(e, "R", 0, e.width) - channel_mean(e, "B", 0, e.width); };
+  EXPECT_GT(red_minus_blue(c) - red_minus_blue(b), 0.02) << red_minus_blue(b) << " -> " << red_minus_blue(c);
   EXPECT_NE(log.find("transfer function hot"), std::string::npos) << log;
 }
 
