@@ -65,6 +65,7 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   }
   im.nodes = std::move(bvh.nodes);
   lay_out_leaf_triangles(geom, config, im.leaf_tris);  // after the permutation: in leaf order
+  im.blocks = lay_out_triangle_blocks(im.nodes, im.leaf_tris, config);
   im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
   if (!im.nodes.empty())
     for (int a = 0; a < 3; ++a) {
@@ -80,7 +81,8 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   s.nodes = im.nodes.size();
   s.leaves = bvh.leaves;
   s.depth = bvh.depth;
-  s.bytes = im.nodes.size() * sizeof(Bvh8Node) + im.leaf_tris.size() * sizeof(LeafTriangle);
+  s.bytes = im.nodes.size() * sizeof(Bvh8Node) + im.leaf_tris.size() * sizeof(LeafTriangle) +
+            im.blocks.size() * sizeof(TriangleBlock);
   s.geometry_bytes = geom.positions.size() * sizeof(Vec3) + geom.triangles.size() * sizeof(UVec3) +
                      geom.triangle_material.size() * sizeof(uint16_t) +
                      geom.spheres.size() * sizeof(Sphere) +
@@ -96,8 +98,8 @@ namespace {
 
 template <bool kAnyHit, bool kCount = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_tris,
-              const Geometry& g, const Ray& ray, Hit& hit, const Accel::AlphaTest& alpha,
-              TraversalCounts* counts = nullptr) {
+              const TriangleBlock* blocks, const Geometry& g, const Ray& ray, Hit& hit,
+              const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
   const Sphere* spheres = g.spheres.data();
@@ -122,6 +124,18 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
     hit.inst = kInvalidId;
     found = true;
   };
+  // A triangle's hit within the widened interval: kept when it beats the best (closest hit),
+  // and not cut out. True when an any-hit walk is done.
+  auto candidate = [&](float t, float u, float v, uint32_t prim) {
+    if (!(kAnyHit ? t <= tmax : closer_hit(t, prim, found, hit, ray.tmax))) return false;
+    if (alpha.opaque && !alpha_opaque(alpha, g, prim, ray, t, u, v)) return false;
+    if constexpr (kAnyHit) return true;
+    record(t, u, v, prim);
+    return false;
+  };
+#if defined(__AVX2__)
+  const BlockRay block_ray(tr);
+#endif
 
   StackEntry stack[kStackSize];
   int sp = 0;
@@ -132,10 +146,38 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       if constexpr (kCount) ++counts->nodes;
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
+      // Every entered child is asked for now, so its fetch overlaps this node's work and the
+      // siblings' (incoherent rays wait on each node and leaf in turn otherwise).
+      for (uint32_t m = mask & ~uint32_t(node.singles); m; m &= m - 1)
+        prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m), blocks);
+#if defined(__AVX2__)
+      if (const uint32_t singles = mask & node.singles) {
+        // The single-triangle leaves entered, all in one pass (the rest of the node as usual).
+        mask &= ~singles;
+        if constexpr (kCount) counts->prims += uint64_t(__builtin_popcount(singles));
+        __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
+        uint32_t redo = 0;
+        uint32_t hits = block_hits(blocks[node.block], block_ray, singles, tmin, tmax_box, tv, uv, vv, redo);
+        if (hits | redo) {
+          alignas(32) float ts[kBvhWidth], us[kBvhWidth], vs[kBvhWidth];
+          if (hits) _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
+          for (uint32_t m = redo; m; m &= m - 1) {  // exactly on an edge: the scalar test decides in double
+            const int i = __builtin_ctz(m);
+            const LeafTriangle& tri = leaf_tris[node.child[i]];
+            if (intersect_triangle(tr, tri.p[0], tri.p[1], tri.p[2], tmin, tmax_box, ts[i], us[i], vs[i]))
+              hits |= 1u << i;
+          }
+          for (; hits; hits &= hits - 1) {
+            const int i = __builtin_ctz(hits);
+            if (candidate(ts[i], us[i], vs[i], node.child[i])) return true;
+          }
+          // A nearer hit: boxes that start beyond it are left out.
+          if (!kAnyHit && found && mask)
+            mask &= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_load_ps(dist), _mm256_set1_ps(tmax_box), _CMP_LE_OQ)));
+        }
+      }
+#endif
       if (mask != 0) {
-        // Every entered child is asked for now, so its fetch overlaps this node's work and the
-        // siblings' (incoherent rays wait on each node and leaf in turn otherwise).
-        for (uint32_t m = mask; m; m &= m - 1) prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m));
         uint32_t i = uint32_t(__builtin_ctz(mask));
         mask &= mask - 1;
         if (mask == 0) {  // one child entered: descend without touching the stack
@@ -214,11 +256,8 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
         const LeafTriangle& tri = leaf_tris[ref + k];
         float t, u, v;
         if (intersect_triangle(tr, tri.p[0], tri.p[1], tri.p[2], tmin, tmax_box, t, u, v) &&
-            (kAnyHit ? t <= tmax : closer_hit(t, ref + k, found, hit, ray.tmax))) {
-          if (alpha.opaque && !alpha_opaque(alpha, g, ref + k, ray, t, u, v)) continue;
-          if constexpr (kAnyHit) return true;
-          record(t, u, v, ref + k);
-        }
+            candidate(t, u, v, ref + k))
+          return true;
       }
     }
     // Pop the nearest pending entry that may still hold a closer hit.
@@ -242,7 +281,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);
   else
-    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, hit, impl_->alpha);
+    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), *impl_->geom, ray, hit, impl_->alpha);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
@@ -251,7 +290,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
   if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
-  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, unused, impl_->alpha))
+  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), *impl_->geom, ray, unused, impl_->alpha))
     return true;
   return occluded_instances(ray, top);
 }
@@ -259,14 +298,14 @@ bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
   return impl_->geom &&
-         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, hit, impl_->alpha, &counts);
+         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), *impl_->geom, ray, hit, impl_->alpha, &counts);
 }
 
 bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->occluded(ray, &counts);
   Hit unused;
   return impl_->geom &&
-         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), *impl_->geom, ray, unused, impl_->alpha, &counts);
+         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), *impl_->geom, ray, unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }

@@ -80,6 +80,7 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   if (config.kind == AccelKind::kGrid) {
     std::vector<Bvh8Node>().swap(im.nodes);
     std::vector<LeafTriangle>().swap(im.leaf_tris);  // the grid reads the vertices themselves
+    std::vector<TriangleBlock>().swap(im.blocks);
     im.geom = &geom;
     build_grid();
     AccelStats& s = im.stats;
@@ -138,6 +139,7 @@ void Accel::build(Geometry& geom, const AccelConfig& config) {
   if (use_grid) {
     std::vector<Bvh8Node>().swap(im.nodes);
     std::vector<LeafTriangle>().swap(im.leaf_tris);  // the grid reads the vertices themselves
+    std::vector<TriangleBlock>().swap(im.blocks);
     s.structure = AccelKind::kGrid;
     s.bytes = s.grid_bytes;
     s.nodes = s.leaves = 0;

@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #endif
 #include "core/accel/bvh_node.h"
+#include "core/accel/triangle_block.h"
 #include "core/accel/grid_accel.h"
 
 namespace frameless {
@@ -100,12 +101,15 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 }
 
 // Asks for child j of `node`, so its fetch overlaps the rest of the node's work: a node's four
-// lines, or a triangle leaf's first two.
-inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Bvh8Node& node, int j) {
+// lines (and its triangle block, given the blocks), or a triangle leaf's first two.
+inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Bvh8Node& node, int j,
+                           const TriangleBlock* blocks = nullptr) {
   const uint8_t info = node.info[j];
   if (info == 0) {
     const char* a = reinterpret_cast<const char*>(nodes + node.child[j]);
     for (int line = 0; line < 4; ++line) __builtin_prefetch(a + 64 * line);
+    if (blocks && (node.blocked >> j & 1u))  // and its single-triangle leaves
+      prefetch_block(blocks + node.child_blocks + uint32_t(__builtin_popcount(node.blocked & ((1u << j) - 1u))));
   } else if (!(info & (kPatchLeafBit | kSphereLeafBit))) {
     const char* a = reinterpret_cast<const char*>(leaf_tris + node.child[j]);
     __builtin_prefetch(a);
@@ -117,6 +121,7 @@ struct Accel::Impl {
   const Geometry* geom = nullptr;
   std::vector<Bvh8Node> nodes;     // the BVH (empty when the grid is in use)
   std::vector<LeafTriangle> leaf_tris;  // by triangle index (leaf order), with the BVH
+  std::vector<TriangleBlock> blocks;    // nodes' single-triangle leaves side by side, with the BVH
   std::unique_ptr<GridAccel> grid;  // the hybrid grid, when chosen
   AccelStats stats;
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces

@@ -24,7 +24,15 @@ struct alignas(64) Bvh8Node {
   float bounds[6][kBvhWidth];  // lo_x, hi_x, lo_y, hi_y, lo_z, hi_z
   uint32_t child[kBvhWidth];
   uint8_t info[kBvhWidth];
-  uint8_t pad[24];
+  // Slots whose single-triangle leaves are tested together from block `block` (triangle_block.h);
+  // 0: none (every leaf is visited on its own).
+  uint8_t singles;
+  // Slots holding a node with a block: the k-th of them has block child_blocks + k, so a ray
+  // entering the child asks for its block with its node (triangle_block.h).
+  uint8_t blocked;
+  uint8_t pad[14];
+  uint32_t child_blocks;
+  uint32_t block;
 };
 static_assert(sizeof(Bvh8Node) == 256, "Bvh8Node must stay four cache lines");
 
@@ -45,6 +53,8 @@ inline void clear_node(Bvh8Node& n) {
     n.child[i] = 0;
     n.info[i] = 0;
   }
+  n.singles = n.blocked = 0;
+  n.child_blocks = n.block = 0;
   for (uint8_t& p : n.pad) p = 0;
 }
 

@@ -1,0 +1,69 @@
+#include "core/accel/triangle_block.h"
+
+#include <cstdlib>
+#include <limits>
+
+#include "core/base/huge_pages.h"
+
+namespace frameless {
+
+std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
+                                                   const AccelConfig& config) {
+  std::vector<TriangleBlock> blocks;
+  // FRAMELESS_TRIANGLE_BLOCKS=0: none (a clean A/B in one binary, as bench rays does).
+  static const bool wanted = [] {
+    const char* e = std::getenv("FRAMELESS_TRIANGLE_BLOCKS");
+    return !(e && e[0] == '0' && e[1] == 0);
+  }();
+#if defined(__AVX2__)
+  if (!wanted) {
+    for (Bvh8Node& n : nodes) n.singles = n.blocked = 0, n.child_blocks = n.block = 0;
+    return blocks;
+  }
+  const auto singles_of = [&](const Bvh8Node& n) {
+    uint32_t m = 0;
+    for (int i = 0; i < kBvhWidth; ++i)
+      if (n.info[i] == 1 && n.child[i] < leaf_tris.size()) m |= 1u << i;  // one plain triangle
+    return __builtin_popcount(m) >= kMinBlockSingles ? m : 0u;
+  };
+  for (Bvh8Node& n : nodes) {
+    n.singles = uint8_t(singles_of(n));
+    n.blocked = 0;
+    n.child_blocks = n.block = 0;
+  }
+  // Blocks are numbered by parent, its children's consecutively (the root's first), so a parent
+  // finds each child's block without reading the child.
+  uint32_t count = 0;
+  if (!nodes.empty() && nodes[0].singles) nodes[0].block = count++;
+  for (Bvh8Node& n : nodes) {
+    n.child_blocks = count;
+    for (int i = 0; i < kBvhWidth; ++i) {
+      const bool node_child = n.info[i] == 0 && n.bounds[0][i] <= n.bounds[1][i] && n.child[i] < nodes.size();
+      if (node_child && nodes[n.child[i]].singles) {
+        nodes[n.child[i]].block = count++;
+        n.blocked |= uint8_t(1u << i);
+      }
+    }
+  }
+  resize_huge(blocks, count);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  constexpr size_t kChunk = 1 << 14;
+  parallel_for_each(config.parallel_for, (nodes.size() + kChunk - 1) / kChunk, [&](size_t c) {
+    for (size_t k = c * kChunk; k < std::min(nodes.size(), (c + 1) * kChunk); ++k) {
+      const Bvh8Node& n = nodes[k];
+      if (!n.singles) continue;
+      TriangleBlock& b = blocks[n.block];
+      for (int i = 0; i < kBvhWidth; ++i)
+        for (int row = 0; row < 9; ++row)
+          b.v[row][i] = (n.singles >> i & 1u) ? leaf_tris[n.child[i]].p[row / 3][row % 3] : nan;
+    }
+  });
+#else
+  (void)config, (void)wanted;
+  for (Bvh8Node& n : nodes) n.singles = n.blocked = 0, n.child_blocks = n.block = 0;
+  (void)leaf_tris;
+#endif
+  return blocks;
+}
+
+}  // namespace frameless
