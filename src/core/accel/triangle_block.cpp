@@ -1,5 +1,6 @@
 #include "core/accel/triangle_block.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 
@@ -53,9 +54,12 @@ std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes,
       const Bvh8Node& n = nodes[k];
       if (!n.singles) continue;
       TriangleBlock& b = blocks[n.block];
-      for (int i = 0; i < kBvhWidth; ++i)
-        for (int row = 0; row < 9; ++row)
-          b.v[row][i] = (n.singles >> i & 1u) ? leaf_tris[n.child[i]].p[row / 3][row % 3] : nan;
+      std::fill(&b.v[0][0], &b.v[0][0] + 9 * kBvhWidth, nan);
+      for (uint32_t m = n.singles; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const LeafTriangle& t = leaf_tris[n.child[i]];
+        for (int row = 0; row < 9; ++row) b.v[row][i] = t.p[row / 3][row % 3];
+      }
     }
   });
 #else
