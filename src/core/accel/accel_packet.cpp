@@ -13,6 +13,7 @@
 
 #include "core/accel/accel_impl.h"
 #include "core/accel/instance_top.h"
+#include "core/accel/watertight_lanes.h"
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
 
@@ -38,15 +39,6 @@ struct PacketEntry {
   float t;       // packet's entry-distance bound (ordering and culling)
   uint32_t lanes;  // rays whose own box test passed (leaves), or all of them (inner nodes)
 };
-
-// a * b rounded, hidden from contraction: GCC's intrinsics are plain vector arithmetic, which
-// -ffp-contract=fast would fuse into FMAs the scalar test (core/base/fused_float.h) does not
-// perform.
-inline __m256 mul8(__m256 a, __m256 b) {
-  __m256 p = _mm256_mul_ps(a, b);
-  asm("" : "+x"(p));
-  return p;
-}
 
 inline __m256 select3(__m256 x, __m256 y, __m256 z, __m256 is0, __m256 is1) {
   return _mm256_blendv_ps(_mm256_blendv_ps(z, y, is1), x, is0);
@@ -236,42 +228,8 @@ inline uint32_t triangle_lanes(const Packet& p, const Vec3& p0, const Vec3& p1, 
                b_z = select3(q1x, q1y, q1z, p.kz0, p.kz1);
   const __m256 c_x = select3(q2x, q2y, q2z, p.kx0, p.kx1), c_y = select3(q2x, q2y, q2z, p.ky0, p.ky1),
                c_z = select3(q2x, q2y, q2z, p.kz0, p.kz1);
-  const __m256 ax = _mm256_fmadd_ps(p.neg_sx, a_z, a_x), ay = _mm256_fmadd_ps(p.neg_sy, a_z, a_y);
-  const __m256 bx = _mm256_fmadd_ps(p.neg_sx, b_z, b_x), by = _mm256_fmadd_ps(p.neg_sy, b_z, b_y);
-  const __m256 cx = _mm256_fmadd_ps(p.neg_sx, c_z, c_x), cy = _mm256_fmadd_ps(p.neg_sy, c_z, c_y);
-  const __m256 u = _mm256_sub_ps(mul8(cx, by), mul8(cy, bx));
-  const __m256 v = _mm256_sub_ps(mul8(ax, cy), mul8(ay, cx));
-  const __m256 w = _mm256_sub_ps(mul8(bx, ay), mul8(by, ax));
-  const __m256 zero = _mm256_setzero_ps();
-  redo = uint32_t(_mm256_movemask_ps(_mm256_or_ps(
-      _mm256_cmp_ps(u, zero, _CMP_EQ_OQ),
-      _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_EQ_OQ), _mm256_cmp_ps(w, zero, _CMP_EQ_OQ)))));
-  const __m256 has_neg = _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_LT_OQ),
-                                      _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_LT_OQ),
-                                                   _mm256_cmp_ps(w, zero, _CMP_LT_OQ)));
-  const __m256 has_pos = _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_GT_OQ),
-                                      _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_GT_OQ),
-                                                   _mm256_cmp_ps(w, zero, _CMP_GT_OQ)));
-  const __m256 det = _mm256_add_ps(_mm256_add_ps(u, v), w);
-  const __m256 az = mul8(p.sz, a_z), bz = mul8(p.sz, b_z),
-               cz = mul8(p.sz, c_z);
-  const __m256 tt = _mm256_fmadd_ps(u, az, _mm256_fmadd_ps(v, bz, mul8(w, cz)));
-  const __m256 sign = _mm256_set1_ps(-0.0f);
-  const __m256 adet = _mm256_andnot_ps(sign, det);
-  const __m256 stt = _mm256_xor_ps(tt, _mm256_and_ps(det, sign));  // det == -0 is rejected below
-  const __m256 in_range =
-      _mm256_and_ps(_mm256_cmp_ps(stt, mul8(p.tmin, adet), _CMP_GE_OQ),
-                    _mm256_cmp_ps(stt, mul8(p.tmax_box, adet), _CMP_LE_OQ));
-  const __m256 ok = _mm256_and_ps(
-      _mm256_andnot_ps(_mm256_and_ps(has_neg, has_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ)),
-      in_range);
-  const uint32_t hit = uint32_t(_mm256_movemask_ps(ok)) & ~redo;
-  if (hit == 0) return 0;  // most tests miss: skip the division
-  const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
-  t = mul8(tt, inv);
-  b1 = mul8(v, inv);
-  b2 = mul8(w, inv);
-  return hit;
+  const LaneTriangle q{{a_x, a_y, a_z}, {b_x, b_y, b_z}, {c_x, c_y, c_z}};
+  return watertight_lanes(q, p.neg_sx, p.neg_sy, p.sz, p.tmin, p.tmax_box, 0xffu, t, b1, b2, redo);
 }
 
 template <bool kAnyHit>

@@ -7,6 +7,7 @@
 
 #include "core/accel/accel_types.h"
 #include "core/accel/bvh_node.h"
+#include "core/accel/watertight_lanes.h"
 #include "core/geometry/intersect_triangle.h"
 
 #if defined(__AVX2__)
@@ -48,59 +49,18 @@ struct BlockRay {
         kx(r.kx), ky(r.ky), kz(r.kz) {}
 };
 
-namespace block_detail {
-inline __m256 mul8(__m256 a, __m256 b) {  // a product never contracted into a following add
-  __m256 p = _mm256_mul_ps(a, b);
-  asm("" : "+x"(p));
-  return p;
-}
-}  // namespace block_detail
-
-// intersect_triangle for the lanes in `lanes`, the same operations in the same order, so each
-// lane's answer is the scalar test's bit for bit. Returns the lanes that hit within
-// [tmin, tmax] with t, b1, b2 set; lanes exactly on an edge in single precision are returned in
-// `redo` instead, for the scalar test (which decides them in double).
+// The watertight test for the lanes in `lanes` (watertight_lanes.h): returns the lanes that
+// hit within [tmin, tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an edge in
+// single precision, for the scalar test.
 inline uint32_t block_hits(const TriangleBlock& b, const BlockRay& r, uint32_t lanes, float tmin,
                            float tmax, __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
-  using block_detail::mul8;
-  const auto row = [&](int k, int axis) { return _mm256_load_ps(b.v[3 * k + axis]); };
-  const __m256 a_x = _mm256_sub_ps(row(0, r.kx), r.ox), a_y = _mm256_sub_ps(row(0, r.ky), r.oy),
-               a_z = _mm256_sub_ps(row(0, r.kz), r.oz);
-  const __m256 b_x = _mm256_sub_ps(row(1, r.kx), r.ox), b_y = _mm256_sub_ps(row(1, r.ky), r.oy),
-               b_z = _mm256_sub_ps(row(1, r.kz), r.oz);
-  const __m256 c_x = _mm256_sub_ps(row(2, r.kx), r.ox), c_y = _mm256_sub_ps(row(2, r.ky), r.oy),
-               c_z = _mm256_sub_ps(row(2, r.kz), r.oz);
-  const __m256 ax = _mm256_fmadd_ps(r.neg_sx, a_z, a_x), ay = _mm256_fmadd_ps(r.neg_sy, a_z, a_y);
-  const __m256 bx = _mm256_fmadd_ps(r.neg_sx, b_z, b_x), by = _mm256_fmadd_ps(r.neg_sy, b_z, b_y);
-  const __m256 cx = _mm256_fmadd_ps(r.neg_sx, c_z, c_x), cy = _mm256_fmadd_ps(r.neg_sy, c_z, c_y);
-  const __m256 u = _mm256_sub_ps(mul8(cx, by), mul8(cy, bx));
-  const __m256 v = _mm256_sub_ps(mul8(ax, cy), mul8(ay, cx));
-  const __m256 w = _mm256_sub_ps(mul8(bx, ay), mul8(by, ax));
-  const __m256 zero = _mm256_setzero_ps();
-  redo = lanes & uint32_t(_mm256_movemask_ps(_mm256_or_ps(
-                     _mm256_cmp_ps(u, zero, _CMP_EQ_OQ),
-                     _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_EQ_OQ), _mm256_cmp_ps(w, zero, _CMP_EQ_OQ)))));
-  const __m256 has_neg = _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_LT_OQ),
-                                      _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_LT_OQ), _mm256_cmp_ps(w, zero, _CMP_LT_OQ)));
-  const __m256 has_pos = _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_GT_OQ),
-                                      _mm256_or_ps(_mm256_cmp_ps(v, zero, _CMP_GT_OQ), _mm256_cmp_ps(w, zero, _CMP_GT_OQ)));
-  const __m256 det = _mm256_add_ps(_mm256_add_ps(u, v), w);
-  const __m256 az = mul8(r.sz, a_z), bz = mul8(r.sz, b_z), cz = mul8(r.sz, c_z);
-  const __m256 tt = _mm256_fmadd_ps(u, az, _mm256_fmadd_ps(v, bz, mul8(w, cz)));
-  const __m256 sign = _mm256_set1_ps(-0.0f);
-  const __m256 adet = _mm256_andnot_ps(sign, det);
-  const __m256 stt = _mm256_xor_ps(tt, _mm256_and_ps(det, sign));  // det == -0 is rejected below
-  const __m256 in_range = _mm256_and_ps(_mm256_cmp_ps(stt, mul8(_mm256_set1_ps(tmin), adet), _CMP_GE_OQ),
-                                        _mm256_cmp_ps(stt, mul8(_mm256_set1_ps(tmax), adet), _CMP_LE_OQ));
-  const __m256 ok = _mm256_and_ps(
-      _mm256_andnot_ps(_mm256_and_ps(has_neg, has_pos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ)), in_range);
-  const uint32_t hit = uint32_t(_mm256_movemask_ps(ok)) & lanes & ~redo;
-  if (hit == 0) return 0;  // most tests miss: skip the division
-  const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
-  t = mul8(tt, inv);
-  b1 = mul8(v, inv);
-  b2 = mul8(w, inv);
-  return hit;
+  // Vertex k's coordinate on `axis` relative to the origin's `o`.
+  const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(_mm256_load_ps(b.v[3 * k + axis]), o); };
+  const LaneTriangle q{{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
+                       {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
+                       {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+  return watertight_lanes(q, r.neg_sx, r.neg_sy, r.sz, _mm256_set1_ps(tmin), _mm256_set1_ps(tmax), lanes, t, b1, b2,
+                          redo);
 }
 #endif
 
