@@ -8,14 +8,18 @@
 
 namespace frameless {
 
-std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
-                                                   const AccelConfig& config) {
-  std::vector<TriangleBlock> blocks;
-  // FRAMELESS_TRIANGLE_BLOCKS=0: none (a clean A/B in one binary, as bench rays does).
+bool triangle_lanes_wanted() {
   static const bool wanted = [] {
     const char* e = std::getenv("FRAMELESS_TRIANGLE_BLOCKS");
     return !(e && e[0] == '0' && e[1] == 0);
   }();
+  return wanted;
+}
+
+std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
+                                                   const AccelConfig& config) {
+  std::vector<TriangleBlock> blocks;
+  const bool wanted = triangle_lanes_wanted();
 #if defined(__AVX2__)
   if (!wanted) {
     for (Bvh8Node& n : nodes) n.singles = n.blocked = 0, n.child_blocks = n.block = 0;

@@ -23,6 +23,11 @@ struct alignas(32) TriangleBlock {
 };
 static_assert(sizeof(TriangleBlock) == 288);
 
+// Whether single rays test triangles in lanes (blocks, and leaves of two or more triangles);
+// FRAMELESS_TRIANGLE_BLOCKS=0 in the environment says no: every triangle is tested on its own
+// (a clean A/B in one binary, as bench rays does).
+bool triangle_lanes_wanted();
+
 // Nodes with at least this many single-triangle leaves get a block.
 inline constexpr int kMinBlockSingles = 2;
 
