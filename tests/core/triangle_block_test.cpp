@@ -39,7 +39,7 @@ uint32_t expect_lanes_match(const EightSingles& s, const Ray& ray, float tmin, f
   const TriangleRay tr = make_triangle_ray(ray);
   __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
   uint32_t redo = 0;
-  const uint32_t hits = block_hits(s.blocks[0], BlockRay(tr), 0xffu, tmin, tmax, tv, uv, vv, redo);
+  const uint32_t hits = lane_hits(block_lanes(s.blocks[0], BlockRay(tr)), BlockRay(tr), 0xffu, tmin, tmax, tv, uv, vv, redo);
   alignas(32) float ts[8], us[8], vs[8];
   _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
   EXPECT_EQ(hits & redo, 0u);
@@ -84,6 +84,45 @@ TEST(TriangleBlock, EveryLaneAnswersAsTheScalarTestOnRandomRays) {
   EXPECT_GT(hits, 2000);  // the comparison is not vacuous
 }
 
+// A leaf's one to four triangles transposed into lanes answer as the scalar test, lane by lane;
+// the lanes past the leaf are never reported.
+TEST(TriangleBlock, LeafLanesAnswerAsTheScalarTest) {
+  Rng rng(43);
+  int hits = 0;
+  for (int round = 0; round < 8000; ++round) {
+    std::vector<LeafTriangle> tris(4);
+    for (LeafTriangle& t : tris) {
+      const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
+      for (Vec3& p : t.p) p = c + 0.6f * uniform_vec(rng, -1.0f, 1.0f);
+    }
+    Ray ray;
+    ray.org = uniform_vec(rng, -2.0f, 2.0f);
+    ray.dir = uniform_vec(rng, -1.0f, 1.0f) - ray.org;
+    const TriangleRay tr = make_triangle_ray(ray);
+    const BlockRay br(tr);
+    const uint32_t n = uint32_t(round % 4) + 1, lanes = (1u << n) - 1u;
+    __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
+    uint32_t redo = 0;
+    const uint32_t got = lane_hits(leaf_lanes(tris.data(), n, br), br, lanes, 0.0f, kInfinity, tv, uv, vv, redo);
+    alignas(32) float ts[8], us[8], vs[8];
+    _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
+    ASSERT_EQ((got | redo) & ~lanes, 0u);
+    for (uint32_t i = 0; i < n; ++i) {
+      if (redo >> i & 1u) continue;
+      float st = 0, su = 0, sv = 0;
+      const bool h = intersect_triangle(tr, tris[i].p[0], tris[i].p[1], tris[i].p[2], 0.0f, kInfinity, st, su, sv);
+      ASSERT_EQ(bool(got >> i & 1u), h) << "round " << round << " lane " << i;
+      if (h) {
+        ++hits;
+        EXPECT_EQ(bits(ts[i]), bits(st));
+        EXPECT_EQ(bits(us[i]), bits(su));
+        EXPECT_EQ(bits(vs[i]), bits(sv));
+      }
+    }
+  }
+  EXPECT_GT(hits, 200);  // the comparison is not vacuous
+}
+
 // Rays through the shared edges and vertices of a grid of unit squares (integer coordinates):
 // the single-precision edge functions are exactly 0 there, which the block leaves to the scalar
 // test; every other lane still matches it.
@@ -106,7 +145,8 @@ TEST(TriangleBlock, EdgeAndVertexRaysGoToTheScalarTest) {
       const uint32_t scalar_hits = expect_lanes_match(s, ray, 0.0f, kInfinity);
       __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
       uint32_t redo = 0;
-      block_hits(s.blocks[0], BlockRay(make_triangle_ray(ray)), 0xffu, 0.0f, kInfinity, tv, uv, vv, redo);
+      const BlockRay br(make_triangle_ray(ray));
+      lane_hits(block_lanes(s.blocks[0], br), br, 0xffu, 0.0f, kInfinity, tv, uv, vv, redo);
       redo_rays += redo != 0;
       // Inside the grid some triangle always takes the ray (watertight), in the vector test or
       // in the scalar test it hands over.

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -67,7 +66,7 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   im.nodes = std::move(bvh.nodes);
   lay_out_leaf_triangles(geom, config, im.leaf_tris);  // after the permutation: in leaf order
   im.blocks = lay_out_triangle_blocks(im.nodes, im.leaf_tris, config);
-  im.leaf_lanes = triangle_lanes_wanted();
+  im.lane_tests = triangle_lanes_wanted();
   im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
   if (!im.nodes.empty())
     for (int a = 0; a < 3; ++a) {
@@ -100,7 +99,7 @@ namespace {
 
 template <bool kAnyHit, bool kCount = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_tris,
-              const TriangleBlock* blocks, bool leaf_lanes, const Geometry& g, const Ray& ray, Hit& hit,
+              const TriangleBlock* blocks, bool lane_tests, const Geometry& g, const Ray& ray, Hit& hit,
               const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
@@ -137,41 +136,23 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
   };
 #if defined(__AVX2__)
   const BlockRay block_ray(tr);
-  // Triangles [first, first + n) of a leaf (n <= 4), transposed into lanes and tested in one
-  // pass (lanes exactly on an edge go to the scalar test); true when an any-hit walk is done.
-  const auto test_leaf_lanes = [&](uint32_t first, uint32_t n) {
-    static const LeafTriangle kNone{{Vec3(std::numeric_limits<float>::quiet_NaN())}};
-    const uint32_t lanes = (1u << n) - 1u;
-    const auto tri = [&](uint32_t i) { return i < n ? &leaf_tris[first + i].p[0].x : &kNone.p[0].x; };
-    const float *t0 = tri(0), *t1 = tri(1), *t2 = tri(2), *t3 = tri(3);
-    // Coordinates 0..7 of four triangles, four lanes a row (rows 4..7 in the upper halves).
-    const __m256 r0 = _mm256_loadu_ps(t0), r1 = _mm256_loadu_ps(t1), r2 = _mm256_loadu_ps(t2), r3 = _mm256_loadu_ps(t3);
-    const __m256 lo01 = _mm256_unpacklo_ps(r0, r1), hi01 = _mm256_unpackhi_ps(r0, r1);
-    const __m256 lo23 = _mm256_unpacklo_ps(r2, r3), hi23 = _mm256_unpackhi_ps(r2, r3);
-    const __m256 u0 = _mm256_shuffle_ps(lo01, lo23, 0x44), u1 = _mm256_shuffle_ps(lo01, lo23, 0xee);
-    const __m256 u2 = _mm256_shuffle_ps(hi01, hi23, 0x44), u3 = _mm256_shuffle_ps(hi01, hi23, 0xee);
-    const __m256 rows[9] = {u0, u1, u2, u3, _mm256_permute2f128_ps(u0, u0, 0x01), _mm256_permute2f128_ps(u1, u1, 0x01),
-                            _mm256_permute2f128_ps(u2, u2, 0x01), _mm256_permute2f128_ps(u3, u3, 0x01),
-                            _mm256_setr_ps(t0[8], t1[8], t2[8], t3[8], 0.0f, 0.0f, 0.0f, 0.0f)};
-    const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(rows[3 * k + axis], o); };
-    const LaneTriangle q{{at(0, block_ray.kx, block_ray.ox), at(0, block_ray.ky, block_ray.oy), at(0, block_ray.kz, block_ray.oz)},
-                         {at(1, block_ray.kx, block_ray.ox), at(1, block_ray.ky, block_ray.oy), at(1, block_ray.kz, block_ray.oz)},
-                         {at(2, block_ray.kx, block_ray.ox), at(2, block_ray.ky, block_ray.oy), at(2, block_ray.kz, block_ray.oz)}};
+  // The lanes `lanes` of q, lane i holding triangle prim(i) (lanes exactly on an edge go to the
+  // scalar test, which decides them in double); true when an any-hit walk is done.
+  const auto test_lanes = [&](const LaneTriangle& q, uint32_t lanes, auto prim) {
     __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
     uint32_t redo = 0;
-    uint32_t hits = watertight_lanes(q, block_ray.neg_sx, block_ray.neg_sy, block_ray.sz, _mm256_set1_ps(tmin),
-                                     _mm256_set1_ps(tmax_box), lanes, tv, uv, vv, redo);
+    uint32_t hits = lane_hits(q, block_ray, lanes, tmin, tmax_box, tv, uv, vv, redo);
     if (!(hits | redo)) return false;
     alignas(32) float ts[kBvhWidth], us[kBvhWidth], vs[kBvhWidth];
     if (hits) _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
     for (uint32_t m = redo; m; m &= m - 1) {
       const int i = __builtin_ctz(m);
-      const LeafTriangle& tri = leaf_tris[first + uint32_t(i)];
+      const LeafTriangle& tri = leaf_tris[prim(i)];
       if (intersect_triangle(tr, tri.p[0], tri.p[1], tri.p[2], tmin, tmax_box, ts[i], us[i], vs[i])) hits |= 1u << i;
     }
     for (; hits; hits &= hits - 1) {
       const int i = __builtin_ctz(hits);
-      if (candidate(ts[i], us[i], vs[i], first + uint32_t(i))) return true;
+      if (candidate(ts[i], us[i], vs[i], prim(i))) return true;
     }
     return false;
   };
@@ -195,26 +176,12 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
         // The single-triangle leaves entered, all in one pass (the rest of the node as usual).
         mask &= ~singles;
         if constexpr (kCount) counts->prims += uint64_t(__builtin_popcount(singles));
-        __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
-        uint32_t redo = 0;
-        uint32_t hits = block_hits(blocks[node.block], block_ray, singles, tmin, tmax_box, tv, uv, vv, redo);
-        if (hits | redo) {
-          alignas(32) float ts[kBvhWidth], us[kBvhWidth], vs[kBvhWidth];
-          if (hits) _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
-          for (uint32_t m = redo; m; m &= m - 1) {  // exactly on an edge: the scalar test decides in double
-            const int i = __builtin_ctz(m);
-            const LeafTriangle& tri = leaf_tris[node.child[i]];
-            if (intersect_triangle(tr, tri.p[0], tri.p[1], tri.p[2], tmin, tmax_box, ts[i], us[i], vs[i]))
-              hits |= 1u << i;
-          }
-          for (; hits; hits &= hits - 1) {
-            const int i = __builtin_ctz(hits);
-            if (candidate(ts[i], us[i], vs[i], node.child[i])) return true;
-          }
-          // A nearer hit: boxes that start beyond it are left out.
-          if (!kAnyHit && found && mask)
-            mask &= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_load_ps(dist), _mm256_set1_ps(tmax_box), _CMP_LE_OQ)));
-        }
+        const float before = tmax_box;
+        if (test_lanes(block_lanes(blocks[node.block], block_ray), singles, [&](int i) { return node.child[i]; }))
+          return true;
+        // A nearer hit: boxes that start beyond it are left out.
+        if (tmax_box < before && mask)
+          mask &= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_load_ps(dist), _mm256_set1_ps(tmax_box), _CMP_LE_OQ)));
       }
 #endif
       if (mask != 0) {
@@ -295,11 +262,15 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       uint32_t k = 0;
 #if defined(__AVX2__)
       // Two or more triangles: up to four at a time in one pass of the lanes' test.
-      if (leaf_lanes)
-        for (; k + 1 < info; k += 4)
-          if (test_leaf_lanes(ref + k, std::min<uint32_t>(info - k, 4))) return true;
+      if (lane_tests)
+        for (; k + 1 < info; k += 4) {
+          const uint32_t first = ref + k, n = std::min<uint32_t>(info - k, 4);
+          if (test_lanes(leaf_lanes(leaf_tris + first, n, block_ray), (1u << n) - 1u,
+                         [&](int i) { return first + uint32_t(i); }))
+            return true;
+        }
 #else
-      (void)leaf_lanes;
+      (void)lane_tests;
 #endif
       for (; k < info; ++k) {
         const LeafTriangle& tri = leaf_tris[ref + k];
@@ -330,7 +301,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);
   else
-    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->leaf_lanes, *impl_->geom, ray, hit, impl_->alpha);
+    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, hit, impl_->alpha);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
@@ -339,7 +310,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
   if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
-  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->leaf_lanes, *impl_->geom, ray, unused, impl_->alpha))
+  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, unused, impl_->alpha))
     return true;
   return occluded_instances(ray, top);
 }
@@ -347,14 +318,14 @@ bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
   return impl_->geom &&
-         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->leaf_lanes, *impl_->geom, ray, hit, impl_->alpha, &counts);
+         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, hit, impl_->alpha, &counts);
 }
 
 bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->occluded(ray, &counts);
   Hit unused;
   return impl_->geom &&
-         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->leaf_lanes, *impl_->geom, ray, unused, impl_->alpha, &counts);
+         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }

@@ -122,7 +122,7 @@ struct Accel::Impl {
   std::vector<Bvh8Node> nodes;     // the BVH (empty when the grid is in use)
   std::vector<LeafTriangle> leaf_tris;  // by triangle index (leaf order), with the BVH
   std::vector<TriangleBlock> blocks;    // nodes' single-triangle leaves side by side, with the BVH
-  bool leaf_lanes = true;               // leaves of two or more triangles tested in lanes
+  bool lane_tests = true;               // leaves of two or more triangles tested in lanes
   std::unique_ptr<GridAccel> grid;  // the hybrid grid, when chosen
   AccelStats stats;
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces

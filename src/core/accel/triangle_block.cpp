@@ -19,23 +19,15 @@ bool triangle_lanes_wanted() {
 std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
                                                    const AccelConfig& config) {
   std::vector<TriangleBlock> blocks;
-  const bool wanted = triangle_lanes_wanted();
 #if defined(__AVX2__)
-  if (!wanted) {
-    for (Bvh8Node& n : nodes) n.singles = n.blocked = 0, n.child_blocks = n.block = 0;
-    return blocks;
-  }
+  if (!triangle_lanes_wanted()) return blocks;
   const auto singles_of = [&](const Bvh8Node& n) {
     uint32_t m = 0;
     for (int i = 0; i < kBvhWidth; ++i)
       if (n.info[i] == 1 && n.child[i] < leaf_tris.size()) m |= 1u << i;  // one plain triangle
     return __builtin_popcount(m) >= kMinBlockSingles ? m : 0u;
   };
-  for (Bvh8Node& n : nodes) {
-    n.singles = uint8_t(singles_of(n));
-    n.blocked = 0;
-    n.child_blocks = n.block = 0;
-  }
+  for (Bvh8Node& n : nodes) n.singles = uint8_t(singles_of(n));
   // Blocks are numbered by parent, its children's consecutively (the root's first), so a parent
   // finds each child's block without reading the child.
   uint32_t count = 0;
@@ -67,9 +59,7 @@ std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes,
     }
   });
 #else
-  (void)config, (void)wanted;
-  for (Bvh8Node& n : nodes) n.singles = n.blocked = 0, n.child_blocks = n.block = 0;
-  (void)leaf_tris;
+  (void)nodes, (void)leaf_tris, (void)config;
 #endif
   return blocks;
 }

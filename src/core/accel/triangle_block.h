@@ -32,15 +32,15 @@ bool triangle_lanes_wanted();
 inline constexpr int kMinBlockSingles = 2;
 
 // Gives every node with at least kMinBlockSingles single-triangle leaves a block (its `singles`
-// and `block` set, the rest cleared) and returns the blocks; triangles from `leaf_tris` (leaf order).
+// and `block`, its parent's `blocked` and `child_blocks` set) and returns the blocks; `nodes` as a
+// builder left them (those fields 0), triangles from `leaf_tris` (leaf order).
 std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
                                                    const AccelConfig& config);
 
-// Asks for a block's five cache lines.
+// Asks for a block's cache lines (288 bytes from a 32-byte boundary: five lines at most).
 inline void prefetch_block(const TriangleBlock* b) {
   const char* a = reinterpret_cast<const char*>(b);
   for (int line = 0; line < 5; ++line) __builtin_prefetch(a + 64 * line);
-  __builtin_prefetch(a + sizeof(TriangleBlock) - 1);
 }
 
 #if defined(__AVX2__)
@@ -54,16 +54,40 @@ struct BlockRay {
         kx(r.kx), ky(r.ky), kz(r.kz) {}
 };
 
-// The watertight test for the lanes in `lanes` (watertight_lanes.h): returns the lanes that
-// hit within [tmin, tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an edge in
-// single precision, for the scalar test.
-inline uint32_t block_hits(const TriangleBlock& b, const BlockRay& r, uint32_t lanes, float tmin,
-                           float tmax, __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
-  // Vertex k's coordinate on `axis` relative to the origin's `o`.
+// Block b's triangles relative to the ray, lane j holding slot j's.
+inline LaneTriangle block_lanes(const TriangleBlock& b, const BlockRay& r) {
   const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(_mm256_load_ps(b.v[3 * k + axis]), o); };
-  const LaneTriangle q{{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
-                       {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
-                       {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+  return {{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
+          {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
+          {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+}
+
+// Triangles tris[0, n) (1 <= n <= 4, a leaf's, contiguous) relative to the ray in lanes 0..n-1,
+// transposed from their LeafTriangles (gathers are slow on some cores); the other lanes repeat
+// lane 0 and must be left out of the test's lanes.
+inline LaneTriangle leaf_lanes(const LeafTriangle* tris, uint32_t n, const BlockRay& r) {
+  const float* t0 = &tris[0].p[0].x;
+  const float *t1 = n > 1 ? &tris[1].p[0].x : t0, *t2 = n > 2 ? &tris[2].p[0].x : t0, *t3 = n > 3 ? &tris[3].p[0].x : t0;
+  // Coordinates 0..7 of the four, four lanes a row (rows 4..7 in the upper halves), then 8.
+  const __m256 r0 = _mm256_loadu_ps(t0), r1 = _mm256_loadu_ps(t1), r2 = _mm256_loadu_ps(t2), r3 = _mm256_loadu_ps(t3);
+  const __m256 lo01 = _mm256_unpacklo_ps(r0, r1), hi01 = _mm256_unpackhi_ps(r0, r1);
+  const __m256 lo23 = _mm256_unpacklo_ps(r2, r3), hi23 = _mm256_unpackhi_ps(r2, r3);
+  const __m256 u0 = _mm256_shuffle_ps(lo01, lo23, 0x44), u1 = _mm256_shuffle_ps(lo01, lo23, 0xee);
+  const __m256 u2 = _mm256_shuffle_ps(hi01, hi23, 0x44), u3 = _mm256_shuffle_ps(hi01, hi23, 0xee);
+  const __m256 rows[9] = {u0, u1, u2, u3, _mm256_permute2f128_ps(u0, u0, 0x01), _mm256_permute2f128_ps(u1, u1, 0x01),
+                          _mm256_permute2f128_ps(u2, u2, 0x01), _mm256_permute2f128_ps(u3, u3, 0x01),
+                          _mm256_setr_ps(t0[8], t1[8], t2[8], t3[8], t0[8], t0[8], t0[8], t0[8])};
+  const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(rows[3 * k + axis], o); };
+  return {{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
+          {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
+          {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+}
+
+// The watertight test of the ray against q's lanes in `lanes` (watertight_lanes.h): returns the
+// lanes that hit within [tmin, tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an
+// edge in single precision, for the scalar test.
+inline uint32_t lane_hits(const LaneTriangle& q, const BlockRay& r, uint32_t lanes, float tmin, float tmax,
+                          __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
   return watertight_lanes(q, r.neg_sx, r.neg_sy, r.sz, _mm256_set1_ps(tmin), _mm256_set1_ps(tmax), lanes, t, b1, b2,
                           redo);
 }
