@@ -331,6 +331,18 @@ TEST_F(TextureFile, RefusesHugeJpegAndExrBeforeAllocating) {
   std::memcpy(&exr[box], window, sizeof window);
   const std::string pe = write("huge.exr", exr);
   EXPECT_EQ(refused(pe), pe + ": image is 20000x5000, larger than the 8192x8192 texture limit");
+
+  // Few pixels but a huge decoding buffer (the fuzzer's find): 16,777,216 x 1, ZIP (16 lines a
+  // chunk) would make OpenEXR allocate 1 GiB before reading a pixel.
+  const int32_t wide[4] = {0, 0, 16777215, 0};
+  std::memcpy(&exr[box], wide, sizeof wide);
+  const std::string ckey("compression\0compression\0", 24);
+  const size_t cat = exr.find(ckey);
+  ASSERT_NE(cat, std::string::npos);
+  exr[cat + ckey.size() + 4] = char(3);  // ZIP_COMPRESSION
+  const std::string pw = write("wide.exr", exr);
+  EXPECT_EQ(refused(pw), pw + ": invalid EXR: a chunk needs 1073741824 bytes to decode (16777216 pixels wide, 16 "
+                              "lines a chunk), more than 268435456");
 }
 
 }  // namespace

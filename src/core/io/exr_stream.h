@@ -7,6 +7,9 @@
 #include <string>
 
 #include <IexBaseExc.h>
+#include <ImfChannelList.h>
+#include <ImfCompression.h>
+#include <ImfHeader.h>
 #include <ImfIO.h>
 
 namespace frameless {
@@ -51,6 +54,35 @@ inline std::string exr_header_problem(const std::string& bytes) {
     at += size;
   }
   return "header has more than 4096 attributes";
+}
+
+// The bytes OpenEXR sets aside to decode one chunk (a block of scan lines, or a tile) are at
+// most this many; InputFile allocates them before reading a pixel.
+inline constexpr uint64_t kMaxExrChunkBytes = uint64_t(256) << 20;
+
+// Checks the chunk buffer a header implies (its width, its channels' bytes per pixel, the lines
+// its compression decodes together, or its tile) against kMaxExrChunkBytes: "" or what is wrong.
+// A file of few pixels can claim a buffer of gigabytes (16.7 M x 1 pixels, ZIP: 16 lines).
+inline std::string exr_chunk_problem(const Imf::Header& header) {
+  const Imath::Box2i dw = header.dataWindow();
+  const uint64_t w = uint64_t(std::max<int64_t>(0, int64_t(dw.max.x) - dw.min.x + 1));
+  uint64_t pixel_bytes = 0;
+  for (auto c = header.channels().begin(); c != header.channels().end(); ++c)
+    pixel_bytes += c.channel().type == Imf::HALF ? 2 : 4;
+  uint64_t lines = 256;  // DWAB and anything newer
+  switch (header.compression()) {
+    case Imf::NO_COMPRESSION: case Imf::RLE_COMPRESSION: case Imf::ZIPS_COMPRESSION: lines = 1; break;
+    case Imf::ZIP_COMPRESSION: case Imf::PXR24_COMPRESSION: lines = 16; break;
+    case Imf::PIZ_COMPRESSION: case Imf::B44_COMPRESSION: case Imf::B44A_COMPRESSION:
+    case Imf::DWAA_COMPRESSION: lines = 32; break;
+    default: break;
+  }
+  uint64_t bytes = w * pixel_bytes * lines;
+  if (header.hasTileDescription())
+    bytes = uint64_t(header.tileDescription().xSize) * header.tileDescription().ySize * pixel_bytes;
+  if (bytes <= kMaxExrChunkBytes) return "";
+  return "a chunk needs " + std::to_string(bytes) + " bytes to decode (" + std::to_string(w) + " pixels wide, " +
+         std::to_string(lines) + " lines a chunk), more than " + std::to_string(kMaxExrChunkBytes);
 }
 
 }  // namespace frameless

@@ -288,6 +288,7 @@ Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const 
     const Imath::Box2i dw = header.dataWindow();
     const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
     if (w <= 0 || h <= 0 || !size_ok(uint64_t(w), uint64_t(h))) return size_error(path, w, h);
+    if (const std::string p = exr_chunk_problem(header); !p.empty()) return fail(path, "invalid EXR: " + p);
 
     stream.seekg(0);
     Imf::InputFile file(stream);

@@ -50,6 +50,7 @@ Result<std::shared_ptr<const LightField>> decode_lightfield(const std::string& b
       const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, ht = int64_t(dw.max.y) - dw.min.y + 1;
       if (w <= 0 || ht <= 0 || uint64_t(w) * uint64_t(ht) > (uint64_t(1) << 31))
         return fail(path, "image of " + std::to_string(w) + "x" + std::to_string(ht) + " texels is empty or larger than 2^31");
+      if (const std::string p = exr_chunk_problem(header); !p.empty()) return fail(path, p);
       stream.seekg(0);
     }
     Imf::InputFile file(stream);
