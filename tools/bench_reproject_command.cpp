@@ -10,16 +10,16 @@ namespace {
 
 const bool registered = register_command(
     "bench", "reproject",
-    "The display's reprojection alone, per camera change, in slot and in pixel order, with its phases",
+    "The display's reprojection alone, per camera change, along its Hilbert curve, in the engine's slot order and in pixel order, with its phases",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::ReprojectOptions>();
       app.add_option("scene", args->scene, "Scene whose primary hits are moved")->capture_default_str();
       app.add_option("--size", args->size, "Image size WxH")->capture_default_str();
-      app.add_option("--threads", args->threads, "Render threads whose slot order the image is kept in (0: all cores)")
+      app.add_option("--threads", args->threads, "Render threads whose slot order is measured (0: all cores)")
           ->capture_default_str();
       app.add_option("--degrees", args->degrees, "Orbit per camera change")->capture_default_str();
       app.add_option("--changes", args->changes, "Timed camera changes per order (median)")->capture_default_str();
-      app.add_option("--order", args->order, "slots, pixels or both")->capture_default_str();
+      app.add_option("--order", args->order, "curve (the display's), slots (the engine's), pixels or all")->capture_default_str();
       app.add_flag("--json", args->json, "Print JSON instead of text");
       return [args]() { return bench::run_reproject(*args); };
     });

@@ -83,27 +83,32 @@ int run_reproject(const ReprojectOptions& o) {
   if (!valid_threads(o.threads, error)) return report_error(error);
   if (!(o.changes >= 1 && o.changes <= 10000)) return report_error("--changes: must be 1..10000");
   if (!(o.degrees > 0 && o.degrees <= 45)) return report_error("--degrees: must be in (0, 45]");
-  if (o.order != "both" && o.order != "slots" && o.order != "pixels")
-    return report_error("--order: expected slots, pixels or both, got '" + o.order + "'");
+  if (o.order != "all" && o.order != "curve" && o.order != "slots" && o.order != "pixels")
+    return report_error("--order: expected curve, slots, pixels or all, got '" + o.order + "'");
   std::unique_ptr<Scene> scene = load_scene_or_report(o.scene, nullptr);
   if (!scene) return 2;
   PartitionConfig pc;
   pc.width = w, pc.height = h, pc.threads = o.threads > 0 ? o.threads : hardware_threads();
   const Partition part = make_partition(pc);
-  // The display's slot order: the threads' lists one after another (as the engine deals them).
+  // The engine's slot order: the threads' lists one after another (as it deals them).
   auto order = std::make_shared<std::vector<uint32_t>>();
   for (const std::vector<uint32_t>& list : part.pixels) order->insert(order->end(), list.begin(), list.end());
-  const LayoutPtr layout = make_layout(std::move(order));
+  const LayoutPtr layout = make_layout(order, w, h);
+  std::vector<uint32_t> slot_of(order->size());
+  for (size_t s = 0; s < order->size(); ++s) slot_of[(*order)[s]] = uint32_t(s);
   const std::vector<ScenePoint> points = primary_points(*scene, scene->camera, w, h);
-  Timing slots, pixels;
-  if (o.order != "pixels")
-    slots = time_changes(scene->camera, o, w, h, layout->pixel_of->data(), layout->slot_of.data(), points);
-  if (o.order != "slots") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
+  const bool all = o.order == "all";
+  Timing curve, slots, pixels;
+  if (all || o.order == "curve")
+    curve = time_changes(scene->camera, o, w, h, layout->pixel_of.data(), layout->slot_of.data(), points);
+  if (all || o.order == "slots") slots = time_changes(scene->camera, o, w, h, order->data(), slot_of.data(), points);
+  if (all || o.order == "pixels") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
   const double px = double(w) * double(h);
   if (o.json) {
     nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
                         {"degrees", o.degrees}, {"changes", o.changes}};
-    for (const auto& [name, t] : {std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
+    for (const auto& [name, t] :
+         {std::pair{"curve_order", curve}, std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
       if (t.median_ms > 0) {
         j[name] = {{"median_ms", t.median_ms}, {"best_ms", t.best_ms}, {"ns_per_pixel", 1e6 * t.median_ms / px},
                    {"moved_fraction", t.moved}, {"disoccluded_fraction", t.disoccluded}};
@@ -114,7 +119,8 @@ int run_reproject(const ReprojectOptions& o) {
   }
   std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d\n",
               o.scene.c_str(), w, h, o.degrees, o.changes);
-  for (const auto& [name, t] : {std::pair{"slot order (the display's)", slots}, std::pair{"pixel order", pixels}})
+  for (const auto& [name, t] : {std::pair{"curve (the display's)", curve}, std::pair{"engine's slot order", slots},
+                                std::pair{"pixel order", pixels}})
     if (t.median_ms > 0) {
       std::printf("  %-27s %6.2f ms (best %.2f), %5.1f ns a pixel, %3.0f %% of a core at 30 changes/s; "
                   "%.1f %% moved, %.2f %% disoccluded\n",

@@ -1,8 +1,9 @@
 // Display thread: collect -> blend -> publish through a triple buffer whose back buffer is
-// brought up to date from short per-tick lists of changed slot runs, so a tick costs in
-// proportion to the pixels that changed, not to the image size. The display thread keeps one
-// 32-byte struct per pixel in the engine's slot order (the order render threads visit pixels),
-// so the reads, blends and copies of a tick all stream through memory; the public DisplayImage
+// brought up to date from short per-tick lists of changed runs, so a tick costs in proportion to
+// the pixels that changed, not to the image size. The display thread keeps one 32-byte struct per
+// pixel along the Hilbert curve, where each of the engine's 64-pixel chunks is a run (so the
+// reads, blends and copies of a tick stream through memory) and neighbours stay near (so
+// reprojection's moves do); the public DisplayImage
 // layers (pixel order) are built only for whoever asks: the consumer in acquire_latest(), and
 // the on-tick callback when one is set. The slot-ordered image itself is display/slot_image.h.
 #include "display/display_thread.h"
@@ -107,10 +108,10 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
 bool DisplayThread::Impl::catch_up(const CollectResult& r) {
   deferred = nullptr;  // set again below only when this tick leaves a full copy for later
   const size_t n = size_t(r.width) * size_t(r.height);
-  if ((layout ? layout->pixel_of : nullptr) != r.slot_pixel) {
-    LayoutPtr next = make_layout(r.slot_pixel);
-    // Each pixel keeps the seq it shows, in its new slot.
-    if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get());
+  if ((layout ? layout->engine_order : nullptr) != r.slot_pixel) {
+    LayoutPtr next = make_layout(r.slot_pixel, r.width, r.height);
+    // Each pixel keeps the seq it shows, in its new engine slot.
+    if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get(), true);
     layout = std::move(next);
   }
   PixelImage& img = buf[back];

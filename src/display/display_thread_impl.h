@@ -51,8 +51,8 @@ struct DisplayThread::Impl {
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
   uint64_t pixels_updated = 0;  // since construction
-  LayoutPtr layout;             // the engine's current slot order, with its inverse
-  // By slot: the engine's sequence number of the update each slot shows, so that update is not
+  LayoutPtr layout;             // the engine's current slot order and the display's places
+  // By engine slot: the engine's sequence number of the update each slot shows, so that update is not
   // blended twice. One array for the three buffers (each is brought up to the newest image before
   // a tick blends into it); apart from the pixels, so reprojection leaves it where it is.
   std::vector<uint32_t> shown_seq;
@@ -151,11 +151,28 @@ struct TickSink final : UpdateSink {
   void frame(const std::vector<PixelSnapshot>& pixels) override;
   void show(DisplayPixel& m, const PixelSnapshot& u, bool guess);
   void redirect(const PixelSnapshot& u, const ScenePoint& point);
+  // Places [first, first + count) changed.
   void mark_dirty(size_t first, size_t count) {
     if (full) return;
-    dirty->push_back({uint32_t(first), uint32_t(count)});
+    if (!dirty->empty() && dirty->back().first + dirty->back().count == first)
+      dirty->back().count += uint32_t(count);
+    else
+      dirty->push_back({uint32_t(first), uint32_t(count)});
     dirty_slots += count;
     if (dirty_slots > image->pixels() / 4) full = true;  // cheaper to copy everything
+  }
+  // Engine slots [first, first + count) changed: the runs of places they are kept in.
+  void mark_dirty_engine(size_t first, size_t count) {
+    if (full) return;
+    if (!image->layout) return mark_dirty(first, count);
+    const uint32_t* place = image->layout->place_of_engine_slot.data() + first;
+    size_t i = 0;
+    while (i < count) {
+      size_t j = i + 1;
+      while (j < count && place[j] == place[j - 1] + 1) ++j;
+      mark_dirty(place[i], j - i);
+      i = j;
+    }
   }
 };
 

@@ -1,14 +1,24 @@
-// The slot-ordered display image: layouts, exports into pixel order, layout changes.
+// The display image stored along the Hilbert curve: layouts, exports into pixel order, layout changes.
 #include "display/slot_image.h"
+
+#include "frameless/hilbert.h"
 
 namespace frameless {
 
-LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order) {
+LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order, int width, int height) {
   if (!order) return nullptr;
   auto l = std::make_shared<SlotLayout>();
-  l->slot_of.resize(order->size());
-  for (size_t s = 0; s < order->size(); ++s) l->slot_of[(*order)[s]] = uint32_t(s);
-  l->pixel_of = std::move(order);
+  const size_t n = order->size();
+  l->pixel_of = size_t(width) * size_t(height) == n ? hilbert_order(width, height) : *order;
+  l->slot_of.resize(n);
+  for (size_t s = 0; s < n; ++s) l->slot_of[l->pixel_of[s]] = uint32_t(s);
+  l->engine_slot_of.resize(n);
+  l->place_of_engine_slot.resize(n);
+  for (size_t s = 0; s < n; ++s) {
+    l->engine_slot_of[(*order)[s]] = uint32_t(s);
+    l->place_of_engine_slot[s] = l->slot_of[(*order)[s]];
+  }
+  l->engine_order = std::move(order);
   return l;
 }
 

@@ -1,6 +1,6 @@
-// The display thread's own image, stored in the engine's slot order (the order render threads
-// visit pixels): the slot layout, the per-tick change lists, and the export into the public
-// DisplayImage layers (pixel order). Display thread only.
+// The display thread's own image, stored along the generalized Hilbert curve (SlotLayout): the
+// layout, the per-tick change lists, and the export into the public DisplayImage layers (pixel
+// order). Display thread only.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -14,14 +14,23 @@ namespace frameless {
 
 constexpr uint64_t kHistory = 8;       // ticks of change lists kept (buffers and consumers catch up from them)
 
-// The engine's slot order and its inverse (built once per layout by the display thread).
+// Where the display keeps each pixel, and the engine's slot order it receives updates in. The
+// display stores its image along the generalized Hilbert curve (frameless/hilbert.h), not in the
+// engine's slot order: the engine's 64-pixel chunks are runs of that curve, so each chunk's slots
+// are still 64 consecutive places (a tick's blend and its copies stay runs), while the engine's
+// shuffle of the chunks would scatter a pixel's neighbours over the whole image (reprojection
+// moves each pixel a few pixels: along the curve it reads places nearby). "Slot" below means the
+// display's place; the engine's slots are named so.
 struct SlotLayout {
-  std::shared_ptr<const std::vector<uint32_t>> pixel_of;  // slot -> pixel (shared with the engine)
-  std::vector<uint32_t> slot_of;                          // pixel -> slot
+  std::shared_ptr<const std::vector<uint32_t>> engine_order;  // engine slot -> pixel (shared with the engine)
+  std::vector<uint32_t> pixel_of;                             // place -> pixel (the curve)
+  std::vector<uint32_t> slot_of;                              // pixel -> place
+  std::vector<uint32_t> place_of_engine_slot;                 // engine slot -> place
+  std::vector<uint32_t> engine_slot_of;                       // pixel -> engine slot
 };
-using LayoutPtr = std::shared_ptr<const SlotLayout>;  // null: slot s is pixel s
+using LayoutPtr = std::shared_ptr<const SlotLayout>;  // null: place, engine slot and pixel coincide
 
-// A run of consecutive slots changed in one tick.
+// A run of consecutive places changed in one tick.
 struct SlotRun {
   uint32_t first = 0;
   uint32_t count = 0;
@@ -43,7 +52,7 @@ struct ChangeHistory {
   }
 };
 
-// The display thread's image: the DisplayImage layers interleaved per pixel, stored by slot.
+// The display thread's image: the DisplayImage layers interleaved per pixel, stored by place.
 struct PixelImage {
   int width = 0;
   int height = 0;
@@ -61,8 +70,11 @@ struct PixelImage {
   int discontinuity = 0;
 
   size_t pixels() const { return size_t(width) * size_t(height); }
-  uint32_t pixel_of(size_t slot) const { return layout ? (*layout->pixel_of)[slot] : uint32_t(slot); }
+  uint32_t pixel_of(size_t slot) const { return layout ? layout->pixel_of[slot] : uint32_t(slot); }
   uint32_t slot_of(size_t pixel) const { return layout ? layout->slot_of[pixel] : uint32_t(pixel); }
+  // The engine's slots: where the update of engine slot s is kept, and pixel p's engine slot.
+  uint32_t place_of_engine_slot(size_t s) const { return layout ? layout->place_of_engine_slot[s] : uint32_t(s); }
+  uint32_t engine_slot_of(size_t pixel) const { return layout ? layout->engine_slot_of[pixel] : uint32_t(pixel); }
   void reset(int w, int h, LayoutPtr l) {
     width = w;
     height = h;
@@ -73,7 +85,7 @@ struct PixelImage {
   // thread reads them), for reprojection.
   SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
                   const PixelPoint* engine_points = nullptr) {
-    return {width,       height,        layout ? layout->pixel_of->data() : nullptr,
+    return {width,       height,        layout ? layout->pixel_of.data() : nullptr,
             layout ? layout->slot_of.data() : nullptr,
             px.data(),   points.data(), marks.data(), engine_points};
   }
@@ -100,18 +112,21 @@ inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, siz
 }
 
 // `by_slot` (one entry per slot of `from`) with each pixel's entry moved to its slot under `to`
-// (a layout change, same size; null layouts: slot s is pixel s).
+// (a layout change, same size; null layouts: slot s is pixel s). `engine`: the entries are by
+// engine slot (else by the display's place).
 template <typename T>
-std::vector<T> to_new_slots(const std::vector<T>& by_slot, const SlotLayout* from, const SlotLayout* to) {
+std::vector<T> to_new_slots(const std::vector<T>& by_slot, const SlotLayout* from, const SlotLayout* to,
+                            bool engine = false) {
   std::vector<T> out(by_slot.size());
   for (size_t s = 0; s < out.size(); ++s) {
-    const uint32_t pixel = to ? (*to->pixel_of)[s] : uint32_t(s);
-    out[s] = by_slot[from ? from->slot_of[pixel] : pixel];
+    const uint32_t pixel = !to ? uint32_t(s) : engine ? (*to->engine_order)[s] : to->pixel_of[s];
+    out[s] = by_slot[!from ? pixel : engine ? from->engine_slot_of[pixel] : from->slot_of[pixel]];
   }
   return out;
 }
 
-LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order);
+// The layout of a width x height image whose engine visits pixels in `order` (null: none).
+LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order, int width, int height);
 
 // Converts the whole image into the public layer layout. It walks the pixels in order and
 // gathers each from its slot: the writes stream, and the reads of a band of rows stay within

@@ -22,7 +22,7 @@ void TickSink::begin(const CollectResult& r) {
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
       for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)
-        if (marks[pixel] & (kMarkUnknown | kMarkStale)) wanted->want(image->slot_of(pixel));
+        if (marks[pixel] & (kMarkUnknown | kMarkStale)) wanted->want(image->engine_slot_of(pixel));
       wanted->publish();
     }
   }
@@ -88,14 +88,20 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
 }
 
 void TickSink::slots(size_t first, const PixelState* states, size_t count) {
-  DisplayPixel* px = image->px.data() + first;
+  // Engine slots [first, first + count): consecutive places within each 64-pixel chunk.
+  DisplayPixel* px = image->px.data();
+  const uint32_t* place = image->layout ? image->layout->place_of_engine_slot.data() + first : nullptr;
+  const uint32_t* pixel_of = image->layout ? image->layout->engine_order->data() + first : nullptr;
   uint32_t* seq = d.shown_seq.data() + first;
   PixelSnapshot u;
   for (size_t i = 0; i < count; ++i) {
+    // Each chunk is a run of places somewhere else: ask for its lines ahead of the blend.
+    if (place && i + 16 < count) __builtin_prefetch(px + place[i + 16], 1);
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == seq[i]) continue;
     seq[i] = u.seq;
-    const size_t pixel = image->pixel_of(first + i);
+    const size_t pixel = pixel_of ? pixel_of[i] : first + i;
+    DisplayPixel& m = px[place ? place[i] : first + i];
     uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
     if (points) {
       if (u.epoch < d.reproject_epoch && d.image_moved) {
@@ -108,18 +114,18 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
       mark = &d.marks[pixel];
     }
     const bool guess = mark && (*mark & kMarkGuess);
-    if (wanted && !guess && jumps(px[i], u)) {
+    if (wanted && !guess && jumps(m, u)) {
       wanted->want(first + i);
       asked = true;
     }
-    show(px[i], u, guess);
+    show(m, u, guess);
     // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
     // costs a byte per update here, not a point.
     if (mark && *mark) *mark = kMarkNone;
     // Read after the state's seq: these levels are the shown update's or a newer one's.
-    if (levels) px[i].levels = levels[pixel].load(std::memory_order_relaxed);
+    if (levels) m.levels = levels[pixel].load(std::memory_order_relaxed);
   }
-  mark_dirty(first, count);
+  mark_dirty_engine(first, count);
   if (asked) {  // inside collect(): the asks stay valid (the layout is locked)
     wanted->publish();
     asked = false;

@@ -1,7 +1,7 @@
-// `frameless bench reproject --json` end to end on a small image: both orders measured, the
+// `frameless bench reproject --json` end to end on a small image: all three orders measured, the
 // image moved as an orbit of half a degree moves it (most pixels land somewhere, few are
 // uncovered; 1280x720 gives 78 % and 4 %), its phases reported (slot order's gather in two
-// passes), bad arguments one line each. (No timing is asserted.)
+// passes along the curve and in slot order), bad arguments one line each. (No timing is asserted.)
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -11,12 +11,12 @@
 namespace frameless::test {
 namespace {
 
-TEST(BenchReprojectCli, JsonReportsBothOrdersAndAPlausibleMove) {
+TEST(BenchReprojectCli, JsonReportsEveryOrderAndAPlausibleMove) {
   const CommandResult r = run_frameless("bench reproject default --size 160x90 --changes 3 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
   ASSERT_FALSE(j.is_discarded()) << r.output;
-  for (const char* order : {"slot_order", "pixel_order"}) {
+  for (const char* order : {"curve_order", "slot_order", "pixel_order"}) {
     ASSERT_TRUE(j.contains(order)) << r.output;
     EXPECT_GT(j[order]["median_ms"].get<double>(), 0.0);
     EXPECT_GT(j[order]["moved_fraction"].get<double>(), 0.5) << r.output;  // the rest: cracks closed, a band uncovered
@@ -25,14 +25,17 @@ TEST(BenchReprojectCli, JsonReportsBothOrdersAndAPlausibleMove) {
       EXPECT_GE(j[order]["phases_ms"][phase].get<double>(), 0.0) << order << " " << phase;
     EXPECT_GT(j[order]["phases_ms"]["pixel_pass"].get<double>(), 0.0) << r.output;
   }
-  // Slot order gathers in two passes; pixel order in one.
+  // The curve and slot order gather in two passes; pixel order in one.
+  EXPECT_GT(j["curve_order"]["phases_ms"]["slot_pass"].get<double>(), 0.0) << r.output;
   EXPECT_GT(j["slot_order"]["phases_ms"]["slot_pass"].get<double>(), 0.0) << r.output;
   EXPECT_EQ(j["pixel_order"]["phases_ms"]["slot_pass"].get<double>(), 0.0) << r.output;
   // The order changes where pixels live, not what moves where.
   EXPECT_EQ(j["slot_order"]["moved_fraction"], j["pixel_order"]["moved_fraction"]);
+  EXPECT_EQ(j["curve_order"]["moved_fraction"], j["pixel_order"]["moved_fraction"]);
   const CommandResult one = run_frameless("bench reproject default --size 160x90 --changes 2 --order pixels --json");
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_FALSE(nlohmann::json::parse(one.output).contains("slot_order"));
+  EXPECT_FALSE(nlohmann::json::parse(one.output).contains("curve_order"));
 }
 
 TEST(BenchReprojectCli, BadArgumentsAreOneLine) {
