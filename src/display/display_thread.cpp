@@ -114,6 +114,15 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get(), true);
     layout = std::move(next);
   }
+  // The newest image not yet taken (no consumer, or a slower one): the display takes it back to
+  // blend into, instead of copying it into another buffer (after a reprojection, the whole
+  // image); the consumer takes this tick's image instead. Only an image still flagged new.
+  uint32_t untaken = newest | kNew;
+  if (newest < 3 && newest != back &&
+      middle.compare_exchange_strong(untaken, back, std::memory_order_acq_rel, std::memory_order_relaxed)) {
+    back = newest;
+    ++reclaimed;
+  }
   PixelImage& img = buf[back];
   if (r.reset || newest > 2 || buf[newest].width != r.width || buf[newest].height != r.height) {
     shown_seq.assign(n, 0);
@@ -260,6 +269,7 @@ void DisplayThread::Impl::thread_main() {
         stats.mean_interval = interval_sum / double(intervals.size());
       }
       stats.rejected = rejected;
+      stats.reclaimed = reclaimed;
       stats.reproject = reproject_totals;
       first = false;
     }
@@ -316,10 +326,15 @@ DisplayConfig DisplayThread::config() const {
 
 const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   Impl& d = *impl_;
-  const bool fresh = d.middle.load(std::memory_order_acquire) & Impl::kNew;
+  // Only an image still flagged new is taken: the display may take the one in `middle` back
+  // (catch_up) between this load and the exchange.
+  uint32_t in_middle = d.middle.load(std::memory_order_acquire);
+  while ((in_middle & Impl::kNew) &&
+         !d.middle.compare_exchange_weak(in_middle, d.front, std::memory_order_acq_rel, std::memory_order_acquire)) {
+  }
+  const bool fresh = in_middle & Impl::kNew;
   if (fresh) {
-    const uint32_t old = d.middle.exchange(d.front, std::memory_order_acq_rel);
-    d.front = old & 3u;
+    d.front = in_middle & 3u;
     // The public layers are built here, on the consumer's thread, and only for images it takes:
     // from the image's change history when it covers the ticks since the last one taken.
     show(d.buf[d.front], d.latest, d.latest_synced, d.latest_filter);
@@ -345,6 +360,7 @@ DisplayStats DisplayThread::stats() const {
   if (!d.running) {
     s.ticks = d.tick_index;
     s.rejected = d.rejected;
+    s.reclaimed = d.reclaimed;
     s.reproject = d.reproject_totals;
     s.pixels_updated = d.pixels_updated;
   }

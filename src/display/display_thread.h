@@ -45,6 +45,7 @@ struct DisplayStats {
   double wall_seconds = 0;        // wall time since start
   double tick_end_seconds = 0;    // wall time (since start) when the last counted tick ended
   uint64_t rejected = 0;          // non-finite values stopped before the image
+  uint64_t reclaimed = 0;         // ticks that blended into the newest image, no consumer having taken it
   ReprojectTotals reproject;
 };
 

@@ -50,6 +50,7 @@ struct DisplayThread::Impl {
   uint64_t tick_index = 0;
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
+  uint64_t reclaimed = 0;  // DisplayStats::reclaimed
   uint64_t pixels_updated = 0;  // since construction
   LayoutPtr layout;             // the engine's current slot order and the display's places
   // By engine slot: the engine's sequence number of the update each slot shows, so that update is not

@@ -1,5 +1,6 @@
 // Display thread: deterministic reproduction, no NaN/Inf displayed, coverage, conventional frames
-// shown only when complete, the triple-buffer hand-off and layout changes (the wall-clock run
+// shown only when complete, the triple-buffer hand-off (an untaken image blended into again)
+// and layout changes (the wall-clock run
 // with real threads is tests/exchange).
 #include "display/display_thread.h"
 
@@ -158,6 +159,28 @@ TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
   bool fresh = true;
   d.acquire_latest(&fresh);
   EXPECT_FALSE(fresh);
+}
+
+// With nobody taking images (headless runs, captures), each tick blends into the newest image
+// again instead of copying it into another buffer (after a reprojection: the whole image); a
+// consumer that takes every image gets no such tick. Both show the same image.
+TEST(DisplayThread, AnUntakenImageIsBlendedIntoAgainNotCopied) {
+  DisplayConfig dc;
+  dc.blend.reproject = true;
+  Engine alone(kEmptyScene, deterministic_config(RenderMode::frameless, 5), camera_at(0));
+  Engine watched(kEmptyScene, deterministic_config(RenderMode::frameless, 5), camera_at(0));
+  DisplayThread a(alone, dc), b(watched, dc);
+  DisplayImage taken;
+  for (int k = 0; k < 20; ++k) {
+    if (k == 8 || k == 12) alone.publish_camera(camera_at(0.05f * float(k))), watched.publish_camera(camera_at(0.05f * float(k)));
+    a.step();
+    b.step();
+    taken = b.acquire_latest();
+  }
+  EXPECT_GE(a.stats().reclaimed, 18u);
+  EXPECT_EQ(b.stats().reclaimed, 0u);
+  EXPECT_GE(a.stats().reproject.reprojections, 1u);
+  EXPECT_TRUE(same_bits(a.acquire_latest(), taken));
 }
 
 // A new partition moves every pixel to a new slot; the display carries its image over, so
