@@ -23,7 +23,9 @@ struct FrameInfo {
   uint64_t rejected = 0;          // non-finite values stopped at the display since its start
 };
 
-// Linear float RGB plus layers; row 0 is the top row; pixel i = y * width + x.
+// Linear float RGB plus layers; row 0 is the top row; pixel i = y * width + x. With reprojection
+// on, rgb and epoch belong to the content shown (they move with it when the camera moves); the
+// other layers describe the newest update blended at the pixel itself, as the engine's pixel does.
 struct DisplayImage {
   int width = 0;
   int height = 0;

@@ -1,21 +1,31 @@
-// One displayed pixel and its layers as the display thread keeps them (by slot), with the marks
-// reprojection leaves; see DisplayImage for the layers' meaning.
+// The display thread's per-pixel structs (by place): what a pixel shows and the record of its
+// newest update, and the marks reprojection leaves; see DisplayImage for the layers' meaning.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 namespace frameless {
 
+// What one displayed pixel shows, as the display thread keeps it (by place): its colour and the
+// camera epoch of the update it came from. Reprojection moves it with the content: 16 bytes, so a
+// move reads and writes half as much as the whole record would.
 struct DisplayPixel {
   float rgb[3] = {0.0f, 0.0f, 0.0f};
+  uint32_t epoch = 0;
+};
+static_assert(sizeof(DisplayPixel) == 16, "four pixels per cache line");
+
+// What the display knows of the newest update blended at a place: its time, sample count,
+// variance and reflection/refraction levels (the DisplayImage layers of those names). It describes
+// the engine's pixel there, which does not move, so reprojection leaves it in place.
+struct PlaceRecord {
   float last_update = -1.0f;
   uint32_t count = 0;
   float variance = 0.0f;
-  uint32_t epoch = 0;
-  uint8_t levels = 0;  // reflection/refraction levels of the newest update (inside: moves with the pixel)
+  uint8_t levels = 0;
   uint8_t unused[3] = {0, 0, 0};
 };
-static_assert(sizeof(DisplayPixel) == 32, "two pixels per cache line");
+static_assert(sizeof(PlaceRecord) == 16, "four records per cache line");
 
 // What reprojection left in a pixel (one byte per slot): its content was moved there from
 // another pixel, copied from a neighbour to close a crack, guessed for a disocclusion, or shows

@@ -1,11 +1,11 @@
 // Display thread: collect -> blend -> publish through a triple buffer whose back buffer is
 // brought up to date from short per-tick lists of changed runs, so a tick costs in proportion to
-// the pixels that changed, not to the image size. The display thread keeps one 32-byte struct per
-// pixel along the Hilbert curve, where each of the engine's 64-pixel chunks is a run (so the
-// reads, blends and copies of a tick stream through memory) and neighbours stay near (so
-// reprojection's moves do); the public DisplayImage
-// layers (pixel order) are built only for whoever asks: the consumer in acquire_latest(), and
-// the on-tick callback when one is set. The slot-ordered image itself is display/slot_image.h.
+// the pixels that changed, not to the image size. The display thread keeps two 16-byte structs per
+// pixel (what it shows; its newest update's record) along the Hilbert curve, where each of the
+// engine's 64-pixel chunks is a run (so the reads, blends and copies of a tick stream through
+// memory) and neighbours stay near (so reprojection's moves do); the public DisplayImage layers
+// (pixel order) are built only for whoever asks: the consumer in acquire_latest(), and the
+// on-tick callback when one is set. The image itself is display/slot_image.h.
 #include "display/display_thread.h"
 
 #include <algorithm>
@@ -143,19 +143,24 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     img.height = src.height;
     img.layout = src.layout;
     img.px.resize(src.px.size());
+    img.rec.resize(src.rec.size());
     deferred = &src;  // copied by finish_catch_up unless a reprojection reads src instead
     return false;
   }
   for (uint64_t t = have; t < tick_index; ++t)
     for (const SlotRun& run : history.runs[t % kHistory]) {
       std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
+      std::memcpy(&img.rec[run.first], &src.rec[run.first], run.count * sizeof(PlaceRecord));
     }
   return false;
 }
 
 // The full copy catch_up deferred, when no reprojection made it unneeded.
 void DisplayThread::Impl::finish_catch_up(PixelImage& img) {
-  if (deferred) std::memcpy(img.px.data(), deferred->px.data(), img.px.size() * sizeof(DisplayPixel));
+  if (deferred) {
+    std::memcpy(img.px.data(), deferred->px.data(), img.px.size() * sizeof(DisplayPixel));
+    std::memcpy(img.rec.data(), deferred->rec.data(), img.rec.size() * sizeof(PlaceRecord));
+  }
   deferred = nullptr;
 }
 
@@ -200,6 +205,8 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   census.clear();  // the gather counts the epochs it moves
   const ReprojectStats st = reprojector.run(reproject_basis, from.slots(points, marks, engine_points),
                                             out.slots(points_out, marks_out), world_moves, 3, &census);
+  // The records stay in place: a stale back buffer gets the newest image's.
+  if (deferred) std::memcpy(img.rec.data(), deferred->rec.data(), img.rec.size() * sizeof(PlaceRecord));
   deferred = nullptr;
   image_moved = true;
   std::swap(img.px, out.px);

@@ -150,7 +150,7 @@ struct TickSink final : UpdateSink {
   void begin(const CollectResult& r) override;
   void slots(size_t first, const PixelState* states, size_t count) override;
   void frame(const std::vector<PixelSnapshot>& pixels) override;
-  void show(DisplayPixel& m, const PixelSnapshot& u, bool guess);
+  void show(DisplayPixel& m, PlaceRecord& rec, const PixelSnapshot& u, bool guess);
   void redirect(const PixelSnapshot& u, const ScenePoint& point);
   // Places [first, first + count) changed.
   void mark_dirty(size_t first, size_t count) {

@@ -60,6 +60,7 @@ void remap(const PixelImage& src, PixelImage& dst, LayoutPtr layout) {
   dst.width = src.width;
   dst.height = src.height;
   dst.px = to_new_slots(src.px, src.layout.get(), layout.get());
+  dst.rec = to_new_slots(src.rec, src.layout.get(), layout.get());
   dst.layout = std::move(layout);
 }
 

@@ -52,12 +52,14 @@ struct ChangeHistory {
   }
 };
 
-// The display thread's image: the DisplayImage layers interleaved per pixel, stored by place.
+// The display thread's image: the DisplayImage layers interleaved per pixel in two arrays (what
+// each place shows, and its newest update's record), stored by place.
 struct PixelImage {
   int width = 0;
   int height = 0;
   LayoutPtr layout;
-  std::vector<DisplayPixel> px;
+  std::vector<DisplayPixel> px;   // what each place shows (reprojection moves it)
+  std::vector<PlaceRecord> rec;   // each place's newest update (stays in place)
   FrameInfo info;
   ChangeHistory history;  // the display's change history when this image was published
   // Denoising (BlendConfig::denoise): each pixel's guides at this tick, in pixel order (empty:
@@ -80,6 +82,7 @@ struct PixelImage {
     height = h;
     layout = std::move(l);
     px.assign(pixels(), DisplayPixel{});
+    rec.assign(pixels(), PlaceRecord{});
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
@@ -101,14 +104,15 @@ struct PixelImage {
 // Writes the layers of slot `s` of `src` into pixel i of `dst`.
 inline void export_pixel(const PixelImage& src, size_t s, DisplayImage& dst, size_t i) {
   const DisplayPixel& p = src.px[s];
+  const PlaceRecord& r = src.rec[s];
   dst.rgb[3 * i] = p.rgb[0];
   dst.rgb[3 * i + 1] = p.rgb[1];
   dst.rgb[3 * i + 2] = p.rgb[2];
-  dst.last_update[i] = p.last_update;
-  dst.sample_count[i] = p.count;
-  dst.variance[i] = p.variance;
+  dst.last_update[i] = r.last_update;
+  dst.sample_count[i] = r.count;
+  dst.variance[i] = r.variance;
   dst.epoch[i] = p.epoch;
-  dst.levels[i] = p.levels;
+  dst.levels[i] = r.levels;
 }
 
 // `by_slot` (one entry per slot of `from`) with each pixel's entry moved to its slot under `to`

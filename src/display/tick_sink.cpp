@@ -39,18 +39,18 @@ inline bool jumps(const DisplayPixel& m, const PixelSnapshot& u) {
 
 // `guess`: what the pixel shows was guessed by reprojection (a crack, a disocclusion, something
 // that may have moved): the first real sample replaces it whole.
-inline void TickSink::show(DisplayPixel& m, const PixelSnapshot& u, bool guess) {
+inline void TickSink::show(DisplayPixel& m, PlaceRecord& rec, const PixelSnapshot& u, bool guess) {
   bool bad = false;
   const Vec3 c = blend_pixel(rule, conventional, Vec3(m.rgb[0], m.rgb[1], m.rgb[2]),
-                             guess ? 0u : m.epoch, m.last_update, u, &bad);
+                             guess ? 0u : m.epoch, rec.last_update, u, &bad);
   rejected += bad;
   d.census.move(m.epoch, u.epoch);
   m.rgb[0] = c.x;
   m.rgb[1] = c.y;
   m.rgb[2] = c.z;
-  m.last_update = u.time;
-  m.count = u.count;
-  m.variance = std::isfinite(u.variance) ? u.variance : 0.0f;
+  rec.last_update = u.time;
+  rec.count = u.count;
+  rec.variance = std::isfinite(u.variance) ? u.variance : 0.0f;
   m.epoch = u.epoch;
   ++changed;
 }
@@ -90,18 +90,24 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
 void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   // Engine slots [first, first + count): consecutive places within each 64-pixel chunk.
   DisplayPixel* px = image->px.data();
+  PlaceRecord* records = image->rec.data();
   const uint32_t* place = image->layout ? image->layout->place_of_engine_slot.data() + first : nullptr;
   const uint32_t* pixel_of = image->layout ? image->layout->engine_order->data() + first : nullptr;
   uint32_t* seq = d.shown_seq.data() + first;
   PixelSnapshot u;
   for (size_t i = 0; i < count; ++i) {
     // Each chunk is a run of places somewhere else: ask for its lines ahead of the blend.
-    if (place && i + 16 < count) __builtin_prefetch(px + place[i + 16], 1);
+    if (place && i + 16 < count) {
+      __builtin_prefetch(px + place[i + 16], 1);
+      __builtin_prefetch(records + place[i + 16], 1);
+    }
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == seq[i]) continue;
     seq[i] = u.seq;
     const size_t pixel = pixel_of ? pixel_of[i] : first + i;
-    DisplayPixel& m = px[place ? place[i] : first + i];
+    const size_t at = place ? place[i] : first + i;
+    DisplayPixel& m = px[at];
+    PlaceRecord& rec = records[at];
     uint8_t* mark = nullptr;  // reprojection's mark of this pixel (null: reprojection off)
     if (points) {
       if (u.epoch < d.reproject_epoch && d.image_moved) {
@@ -118,12 +124,12 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
       wanted->want(first + i);
       asked = true;
     }
-    show(m, u, guess);
+    show(m, rec, u, guess);
     // Unmarked: the engine's point is this pixel's (read at the next reprojection), so a tick
     // costs a byte per update here, not a point.
     if (mark && *mark) *mark = kMarkNone;
     // Read after the state's seq: these levels are the shown update's or a newer one's.
-    if (levels) m.levels = levels[pixel].load(std::memory_order_relaxed);
+    if (levels) rec.levels = levels[pixel].load(std::memory_order_relaxed);
   }
   mark_dirty_engine(first, count);
   if (asked) {  // inside collect(): the asks stay valid (the layout is locked)
@@ -136,9 +142,9 @@ void TickSink::frame(const std::vector<PixelSnapshot>& pixels) {
   const size_t n = std::min(pixels.size(), image->px.size());
   for (size_t i = 0; i < n; ++i) {
     if (pixels[i].epoch == 0) continue;
-    show(image->px[i], pixels[i], false);
+    show(image->px[i], image->rec[i], pixels[i], false);
     d.shown_seq[i] = 0;  // frames carry no sequence number; frameless updates compare against 0
-    image->px[i].levels = pixels[i].levels;
+    image->rec[i].levels = pixels[i].levels;
   }
   full = true;
 }

@@ -65,8 +65,7 @@ Synthetic render(const CameraBasis& b, bool square) {
       s.px[i].rgb[0] = float(x);
       s.px[i].rgb[1] = float(y);
       s.px[i].rgb[2] = sq ? 0.0f : 1.0f;
-      s.px[i].epoch = 1;
-      s.px[i].levels = uint8_t(i % 7);
+      s.px[i].epoch = 1 + uint32_t(i % 7);
     }
   return s;
 }
@@ -104,7 +103,7 @@ TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
         EXPECT_NEAR(cy, float(y) + 0.5f, 1e-3f) << x << "," << y;
         EXPECT_NEAR(cd, sd, 1e-5f * sd) << x << "," << y;
       }
-      EXPECT_EQ(to.px[t].levels, from.px[src].levels);  // the levels move with the content
+      EXPECT_EQ(to.px[t].epoch, from.px[src].epoch);  // the epoch moves with the content
       float px, py, d;
       ASSERT_TRUE(project_point(b, p, px, py, d));
       if (to.marks[t] == kMarkMoved) {
