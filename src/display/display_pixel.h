@@ -50,10 +50,10 @@ struct EpochCensus {
     tag.assign(kRing, 0);
     count.assign(kRing, 0);
   }
-  void add(uint32_t e) {
+  void add(uint32_t e, uint32_t pixels = 1) {
     if (e == 0) return;
     if (tag[e % kRing] != e) tag[e % kRing] = e, count[e % kRing] = 0;
-    ++count[e % kRing];
+    count[e % kRing] += pixels;
   }
   // Moves one pixel from epoch `from` to `to`.
   void move(uint32_t from, uint32_t to) {

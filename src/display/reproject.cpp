@@ -343,7 +343,9 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   const Vec3 step = after.u * (2.0f * after.tan_half * after.aspect / float(w));
   row_dirs_.resize(size_t(h));
   for (int y = 0; y < h; ++y) row_dirs_[size_t(y)] = camera_direction(after, 0.5f, float(y) + 0.5f);
-  size_t by_mark[256] = {};
+  // Four histograms, by pixel index: one counter bumped pixel after pixel would wait on its own
+  // store each time.
+  size_t by_mark[4][256] = {};
   // What pixel t shows: the slot of `from` its content comes from; its point and mark are written.
   const auto place = [&](size_t t) {
     const uint64_t key = key_[t];
@@ -363,7 +365,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
     to.points[t] = point;
     to.marks[t] = mark;
-    ++by_mark[mark];
+    ++by_mark[t & 3][mark];
     return from.slot(source);
   };
   // Asks for the source of the pixel kSourceAhead on (its point, and its slot or its content):
@@ -380,11 +382,20 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       __builtin_prefetch(from.slot_of ? static_cast<const void*>(from.slot_of + ahead) : from.px + ahead); \
     }                                                                                      \
   }
+  // The census counts runs of one epoch (neighbours mostly show the same), not pixel by pixel.
+  uint32_t run_epoch = 0, run_pixels = 0;
+  const auto count_epoch = [&](uint32_t e) {
+    if (e != run_epoch) {
+      if (census) census->add(run_epoch, run_pixels);
+      run_epoch = e, run_pixels = 0;
+    }
+    ++run_pixels;
+  };
   if (!to.pixel_of) {
     for (size_t t = 0; t < n; ++t) {  // slot = pixel: every array streams
       FRAMELESS_FETCH_SOURCE(t)
       to.px[t] = from.px[place(t)];
-      if (census) census->add(to.px[t].epoch);
+      count_epoch(to.px[t].epoch);
     }
     lap(ReprojectTimes::pixel_pass);
   } else {
@@ -404,17 +415,19 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       if (ts + kAhead < n) __builtin_prefetch(&source_slot_[pixel_of[ts + kAhead]]);
       if (ts + kAhead / 2 < n) __builtin_prefetch(&from.px[source_slot_[pixel_of[ts + kAhead / 2]]]);
       to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
-      if (census) census->add(to.px[ts].epoch);
+      count_epoch(to.px[ts].epoch);
     }
     lap(ReprojectTimes::slot_pass);
   }
 #undef FRAMELESS_FETCH_SOURCE
+  if (census) census->add(run_epoch, run_pixels);
   ReprojectStats stats;
   for (int m = 0; m < 256; ++m) {
-    stats.moved += (m & kMarkMoved) ? by_mark[m] : 0;
-    stats.filled += (m & kMarkFilled) ? by_mark[m] : 0;
-    stats.disoccluded += (m & kMarkDisoccluded) ? by_mark[m] : 0;
-    stats.stale += (m & kMarkStale) ? by_mark[m] : 0;
+    const size_t c = by_mark[0][m] + by_mark[1][m] + by_mark[2][m] + by_mark[3][m];
+    stats.moved += (m & kMarkMoved) ? c : 0;
+    stats.filled += (m & kMarkFilled) ? c : 0;
+    stats.disoccluded += (m & kMarkDisoccluded) ? c : 0;
+    stats.stale += (m & kMarkStale) ? c : 0;
   }
   return stats;
 }
