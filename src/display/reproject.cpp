@@ -234,8 +234,12 @@ void Reprojector::cracks8(int w, int h) {
       continue;
     }
     scalar(row);
+    const size_t end = size_t(h) * size_t(w);
     for (int x = 1; x < w - 1; x += 8) {
       const size_t t = row + size_t(x);
+      // The next row is read only around holes (sparse masked loads the hardware prefetchers do
+      // not follow) and was last touched by the splat: ask for it 64 pixels ahead.
+      if (t + size_t(w) + 64 < end) __builtin_prefetch(&key_[t + size_t(w) + 64]);
       const __mmask8 lanes = __mmask8(w - 1 - x >= 8 ? 0xffu : (1u << (w - 1 - x)) - 1u);
       const __mmask8 holes = _mm512_mask_cmpeq_epu64_mask(lanes, _mm512_maskz_loadu_epi64(lanes, &key_[t]), hole);
       if (!holes) continue;
