@@ -96,10 +96,13 @@ void TickSink::slots(size_t first, const PixelState* states, size_t count) {
   uint32_t* seq = d.shown_seq.data() + first;
   PixelSnapshot u;
   for (size_t i = 0; i < count; ++i) {
-    // Each chunk is a run of places somewhere else: ask for its lines ahead of the blend.
+    // Each chunk is a run of places somewhere else, and a square of pixels whose levels and marks
+    // (by pixel) lie on as many rows: ask for their lines ahead of the blend.
     if (place && i + 16 < count) {
       __builtin_prefetch(px + place[i + 16], 1);
       __builtin_prefetch(records + place[i + 16], 1);
+      if (levels) __builtin_prefetch(levels + pixel_of[i + 16]);
+      if (points) __builtin_prefetch(d.marks.data() + pixel_of[i + 16], 1);
     }
     // A slot whose owner kept writing it is picked up on the owner's next visit.
     if (!read_pixel(states[i], u) || u.epoch == 0 || u.seq == seq[i]) continue;
