@@ -376,7 +376,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // the sources run as a stream shifted by the move, one of the pass's seven, which the hardware
   // prefetchers lose (the pass took twice as long). A macro: GCC drops a call whose only effect
   // is a prefetch as pure.
-  constexpr size_t kSourceAhead = 64;
+  constexpr size_t kSourceAhead = 128;
   const uint64_t* keys = key_.data();
 #define FRAMELESS_FETCH_SOURCE(t)                                                          \
   if ((t) + kSourceAhead < n) {                                                            \
@@ -413,7 +413,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     lap(ReprojectTimes::pixel_pass);
     // Slots stream; the source slot of the pixel kAhead slots on is fetched early, and its
     // content kAhead / 2 slots on.
-    constexpr size_t kAhead = 128;
+    constexpr size_t kAhead = 256;
     const uint32_t* pixel_of = to.pixel_of;
     for (size_t ts = 0; ts < n; ++ts) {
       if (ts + kAhead < n) __builtin_prefetch(&source_slot_[pixel_of[ts + kAhead]]);
