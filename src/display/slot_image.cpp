@@ -46,8 +46,19 @@ void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
   if (out.width == img.width && out.height == img.height && img.history.covers(synced, now)) {
     for (uint64_t t = synced; t < now; ++t)
       for (const SlotRun& run : img.history.runs[t % kHistory])
-        for (size_t s = run.first; s < size_t(run.first) + run.count; ++s)
+        for (size_t s = run.first, end = size_t(run.first) + run.count; s < end; ++s) {
+          // A run is a square of pixels, each layer's lines on as many rows: ask for them ahead.
+          if (s + 16 < end) {
+            const size_t q = img.pixel_of(s + 16);
+            __builtin_prefetch(&out.rgb[3 * q], 1);
+            __builtin_prefetch(&out.last_update[q], 1);
+            __builtin_prefetch(&out.sample_count[q], 1);
+            __builtin_prefetch(&out.variance[q], 1);
+            __builtin_prefetch(&out.epoch[q], 1);
+            __builtin_prefetch(&out.levels[q], 1);
+          }
           export_pixel(img, s, out, img.pixel_of(s));
+        }
     out.info = img.info;
   } else {
     export_image(img, out);
