@@ -114,11 +114,17 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get(), true);
     layout = std::move(next);
   }
-  // The newest image not yet taken (no consumer, or a slower one): the display takes it back to
-  // blend into, instead of copying it into another buffer (after a reprojection, the whole
-  // image); the consumer takes this tick's image instead. Only an image still flagged new.
+  // No consumer has asked for an image for kHistory ticks (headless runs, captures that only
+  // read FrameInfo): the display takes the untaken newest image back to blend into, instead of
+  // copying it into another buffer (after a reprojection, the whole image). A consumer that asks
+  // at all keeps every image in `middle` until it takes it or a newer one replaces it (taking it
+  // back whenever untaken would starve a consumer that polls right after a busy tick's publish).
+  if (const uint64_t polls = consumer_polls.load(std::memory_order_relaxed); polls != polls_seen) {
+    polls_seen = polls;
+    last_poll_tick = tick_index;
+  }
   uint32_t untaken = newest | kNew;
-  if (newest < 3 && newest != back &&
+  if (tick_index >= last_poll_tick + kHistory && newest < 3 && newest != back &&
       middle.compare_exchange_strong(untaken, back, std::memory_order_acq_rel, std::memory_order_relaxed)) {
     back = newest;
     ++reclaimed;
@@ -334,7 +340,8 @@ DisplayConfig DisplayThread::config() const {
 const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   Impl& d = *impl_;
   // Only an image still flagged new is taken: the display may take the one in `middle` back
-  // (catch_up) between this load and the exchange.
+  // (catch_up, while no consumer has asked lately) between this load and the exchange.
+  d.consumer_polls.fetch_add(1, std::memory_order_relaxed);
   uint32_t in_middle = d.middle.load(std::memory_order_acquire);
   while ((in_middle & Impl::kNew) &&
          !d.middle.compare_exchange_weak(in_middle, d.front, std::memory_order_acq_rel, std::memory_order_acquire)) {

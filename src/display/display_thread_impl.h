@@ -51,6 +51,9 @@ struct DisplayThread::Impl {
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
   uint64_t reclaimed = 0;  // DisplayStats::reclaimed
+  std::atomic<uint64_t> consumer_polls{0};  // acquire_latest calls (any thread)
+  uint64_t polls_seen = 0;       // consumer_polls at the last tick that saw it change
+  uint64_t last_poll_tick = 0;   // that tick
   uint64_t pixels_updated = 0;  // since construction
   LayoutPtr layout;             // the engine's current slot order and the display's places
   // By engine slot: the engine's sequence number of the update each slot shows, so that update is not
@@ -80,8 +83,9 @@ struct DisplayThread::Impl {
 
   // Triple buffer: the display brings `back` up to date, blends the tick into it in place and
   // swaps it with `middle`; the consumer swaps `middle` into `front` and exports it into `latest`.
-  // synced[b]: ticks whose changes buffer b holds; newest: the buffer published last (3: none),
-  // which only ever gets read while it is not `back`.
+  // While no consumer asks, the display swaps the untaken newest image back out of `middle` and
+  // blends into it again (catch_up). synced[b]: ticks whose changes buffer b holds; newest: the
+  // buffer published last (3: none), never `front`.
   PixelImage buf[3];
   uint32_t newest = 3;
   uint64_t synced[3] = {0, 0, 0};

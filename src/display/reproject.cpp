@@ -404,7 +404,8 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
     lap(ReprojectTimes::pixel_pass);
   } else {
     // Two passes: points and marks by pixel, then the pixels by slot. One walk doing both (either
-    // order) missed the cache on every pixel: the slot order is a shuffle of 64-pixel chunks.
+    // order, even along the display's Hilbert curve) loses the hardware prefetchers: it mixes
+    // pixel-indexed and slot-indexed arrays (benchmarks.md, sections 19 and 23).
     source_slot_.resize(n);
     for (size_t t = 0; t < n; ++t) {
       FRAMELESS_FETCH_SOURCE(t)

@@ -161,9 +161,10 @@ TEST(DisplayThread, TripleBufferMatchesTheTickImage) {
   EXPECT_FALSE(fresh);
 }
 
-// With nobody taking images (headless runs, captures), each tick blends into the newest image
-// again instead of copying it into another buffer (after a reprojection: the whole image); a
-// consumer that takes every image gets no such tick. Both show the same image.
+// With nobody taking images (headless runs, captures), each tick after the first kHistory (8)
+// blends into the newest image again instead of copying it into another buffer (after a
+// reprojection: the whole image); a consumer that takes every image gets no such tick. Both show
+// the same image.
 TEST(DisplayThread, AnUntakenImageIsBlendedIntoAgainNotCopied) {
   DisplayConfig dc;
   dc.blend.reproject = true;
@@ -177,10 +178,30 @@ TEST(DisplayThread, AnUntakenImageIsBlendedIntoAgainNotCopied) {
     b.step();
     taken = b.acquire_latest();
   }
-  EXPECT_GE(a.stats().reclaimed, 18u);
+  EXPECT_EQ(a.stats().reclaimed, 12u);
   EXPECT_EQ(b.stats().reclaimed, 0u);
   EXPECT_GE(a.stats().reproject.reprojections, 1u);
   EXPECT_TRUE(same_bits(a.acquire_latest(), taken));
+}
+
+// A consumer that asks keeps its images: after each call the display leaves them in the middle
+// buffer for 8 ticks (taking back a busy tick's image right after its publish would starve a
+// consumer that polls then).
+TEST(DisplayThread, AConsumerThatAsksStopsTheReclaim) {
+  Engine e(kEmptyScene, deterministic_config(RenderMode::frameless, 6), camera_at(0));
+  DisplayThread d(e, {});
+  for (int k = 0; k < 12; ++k) d.step();
+  const uint64_t before = d.stats().reclaimed;
+  EXPECT_EQ(before, 4u);  // ticks 8 to 11
+  bool fresh = false;
+  EXPECT_EQ(d.acquire_latest(&fresh).info.index, 11u);
+  EXPECT_TRUE(fresh);
+  for (int k = 0; k < 8; ++k) d.step();  // ticks 12 to 19 see the call
+  EXPECT_EQ(d.stats().reclaimed, before);
+  d.step();
+  EXPECT_EQ(d.stats().reclaimed, before + 1);
+  EXPECT_EQ(d.acquire_latest(&fresh).info.index, 20u);
+  EXPECT_TRUE(fresh);
 }
 
 // A new partition moves every pixel to a new slot; the display carries its image over, so
