@@ -90,18 +90,15 @@ int run_reproject(const ReprojectOptions& o) {
   PartitionConfig pc;
   pc.width = w, pc.height = h, pc.threads = o.threads > 0 ? o.threads : hardware_threads();
   const Partition part = make_partition(pc);
-  // The engine's slot order: the threads' lists one after another (as it deals them).
-  auto order = std::make_shared<std::vector<uint32_t>>();
-  for (const std::vector<uint32_t>& list : part.pixels) order->insert(order->end(), list.begin(), list.end());
-  const LayoutPtr layout = make_layout(order, w, h);
-  std::vector<uint32_t> slot_of(order->size());
-  for (size_t s = 0; s < order->size(); ++s) slot_of[(*order)[s]] = uint32_t(s);
+  // The display's places, and the engine's slot order with its inverse.
+  const LayoutPtr layout = make_layout(std::make_shared<const std::vector<uint32_t>>(slot_order(part)), w, h);
   const std::vector<ScenePoint> points = primary_points(*scene, scene->camera, w, h);
   const bool all = o.order == "all";
   Timing curve, slots, pixels;
   if (all || o.order == "curve")
     curve = time_changes(scene->camera, o, w, h, layout->pixel_of.data(), layout->slot_of.data(), points);
-  if (all || o.order == "slots") slots = time_changes(scene->camera, o, w, h, order->data(), slot_of.data(), points);
+  if (all || o.order == "slots")
+    slots = time_changes(scene->camera, o, w, h, layout->engine_order->data(), layout->engine_slot_of.data(), points);
   if (all || o.order == "pixels") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
   const double px = double(w) * double(h);
   if (o.json) {

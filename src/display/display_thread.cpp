@@ -114,8 +114,8 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     if (shown_seq.size() == n) shown_seq = to_new_slots(shown_seq, layout.get(), next.get(), true);
     layout = std::move(next);
   }
-  // No consumer has asked for an image for kHistory ticks (headless runs, captures that only
-  // read FrameInfo): the display takes the untaken newest image back to blend into, instead of
+  // No consumer has asked for an image for kHistory ticks (a headless run that reads only
+  // FrameInfo): the display takes the untaken newest image back to blend into, instead of
   // copying it into another buffer (after a reprojection, the whole image). A consumer that asks
   // at all keeps every image in `middle` until it takes it or a newer one replaces it (taking it
   // back whenever untaken would starve a consumer that polls right after a busy tick's publish).
@@ -154,19 +154,13 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     return false;
   }
   for (uint64_t t = have; t < tick_index; ++t)
-    for (const SlotRun& run : history.runs[t % kHistory]) {
-      std::memcpy(&img.px[run.first], &src.px[run.first], run.count * sizeof(DisplayPixel));
-      std::memcpy(&img.rec[run.first], &src.rec[run.first], run.count * sizeof(PlaceRecord));
-    }
+    for (const SlotRun& run : history.runs[t % kHistory]) img.copy_places(src, run.first, run.count);
   return false;
 }
 
 // The full copy catch_up deferred, when no reprojection made it unneeded.
 void DisplayThread::Impl::finish_catch_up(PixelImage& img) {
-  if (deferred) {
-    std::memcpy(img.px.data(), deferred->px.data(), img.px.size() * sizeof(DisplayPixel));
-    std::memcpy(img.rec.data(), deferred->rec.data(), img.rec.size() * sizeof(PlaceRecord));
-  }
+  if (deferred) img.copy_places(*deferred, 0, img.pixels());
   deferred = nullptr;
 }
 

@@ -3,6 +3,7 @@
 // order). Display thread only.
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,11 @@ struct PixelImage {
   int discontinuity = 0;
 
   size_t pixels() const { return size_t(width) * size_t(height); }
+  // Places [first, first + count) of `src` (same size) copied in: what they show and their records.
+  void copy_places(const PixelImage& src, size_t first, size_t count) {
+    std::memcpy(&px[first], &src.px[first], count * sizeof(DisplayPixel));
+    std::memcpy(&rec[first], &src.rec[first], count * sizeof(PlaceRecord));
+  }
   uint32_t pixel_of(size_t slot) const { return layout ? layout->pixel_of[slot] : uint32_t(slot); }
   uint32_t slot_of(size_t pixel) const { return layout ? layout->slot_of[pixel] : uint32_t(pixel); }
   // The engine's slots: where the update of engine slot s is kept, and pixel p's engine slot.

@@ -78,4 +78,10 @@ Partition make_partition(const PartitionConfig& c) {
   return p;
 }
 
+std::vector<uint32_t> slot_order(const Partition& partition) {
+  std::vector<uint32_t> order;
+  for (const std::vector<uint32_t>& list : partition.pixels) order.insert(order.end(), list.begin(), list.end());
+  return order;
+}
+
 }  // namespace frameless

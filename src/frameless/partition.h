@@ -49,4 +49,7 @@ struct Partition {
 
 Partition make_partition(const PartitionConfig& config);
 
+// The threads' lists one after another: the engine's slot order (slot s shows pixel result[s]).
+std::vector<uint32_t> slot_order(const Partition& partition);
+
 }  // namespace frameless

@@ -22,6 +22,16 @@ uint32_t bits(float f) {
   return b;
 }
 
+// n triangles of size about 0.6 around random centres in [-1, 1]^3 (they overlap: rays meet several).
+std::vector<LeafTriangle> overlapping_triangles(Rng& rng, int n) {
+  std::vector<LeafTriangle> tris(static_cast<size_t>(n));
+  for (LeafTriangle& t : tris) {
+    const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
+    for (Vec3& p : t.p) p = c + 0.6f * uniform_vec(rng, -1.0f, 1.0f);
+  }
+  return tris;
+}
+
 // A node of eight single-triangle leaves 0..7, laid out as one block.
 struct EightSingles {
   std::vector<Bvh8Node> nodes{1};
@@ -65,11 +75,7 @@ TEST(TriangleBlock, EveryLaneAnswersAsTheScalarTestOnRandomRays) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   int hits = 0;
   for (int round = 0; round < 2000; ++round) {
-    std::vector<LeafTriangle> tris(8);
-    for (LeafTriangle& t : tris) {
-      const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
-      for (Vec3& p : t.p) p = c + 0.6f * uniform_vec(rng, -1.0f, 1.0f);
-    }
+    std::vector<LeafTriangle> tris = overlapping_triangles(rng, 8);
     if (round % 3 == 0) tris[3].p[2] = tris[3].p[0];  // degenerate: zero area
     const EightSingles s(tris);
     for (int k = 0; k < 20; ++k) {
@@ -90,11 +96,7 @@ TEST(TriangleBlock, LeafLanesAnswerAsTheScalarTest) {
   Rng rng(43);
   int hits = 0;
   for (int round = 0; round < 8000; ++round) {
-    std::vector<LeafTriangle> tris(4);
-    for (LeafTriangle& t : tris) {
-      const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
-      for (Vec3& p : t.p) p = c + 0.6f * uniform_vec(rng, -1.0f, 1.0f);
-    }
+    const std::vector<LeafTriangle> tris = overlapping_triangles(rng, 4);
     Ray ray;
     ray.org = uniform_vec(rng, -2.0f, 2.0f);
     ray.dir = uniform_vec(rng, -1.0f, 1.0f) - ray.org;

@@ -302,8 +302,7 @@ TEST(Reproject, SlotOrderGivesThePixelOrderImage) {
   for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;
   PartitionConfig pc;
   pc.width = kW, pc.height = kH, pc.threads = 3;
-  std::vector<uint32_t> pixel_of;
-  for (const std::vector<uint32_t>& list : make_partition(pc).pixels) pixel_of.insert(pixel_of.end(), list.begin(), list.end());
+  const std::vector<uint32_t> pixel_of = slot_order(make_partition(pc));
   std::vector<uint32_t> slot_of(pixel_of.size());
   for (size_t s = 0; s < pixel_of.size(); ++s) slot_of[pixel_of[s]] = uint32_t(s);
   ASSERT_NE(pixel_of[1], 1u) << "the layout should not be the identity";

@@ -17,9 +17,7 @@ namespace {
 std::shared_ptr<const std::vector<uint32_t>> engine_order(int w, int h, int threads, PixelOrder order) {
   PartitionConfig c;
   c.width = w, c.height = h, c.threads = threads, c.order = order;
-  auto out = std::make_shared<std::vector<uint32_t>>();
-  for (const auto& list : make_partition(c).pixels) out->insert(out->end(), list.begin(), list.end());
-  return out;
+  return std::make_shared<const std::vector<uint32_t>>(slot_order(make_partition(c)));
 }
 
 TEST(SlotLayout, MapsPixelsPlacesAndEngineSlotsBothWays) {
