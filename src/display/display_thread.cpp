@@ -50,6 +50,10 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
     cfg = config;
   }
   engine.note_display_tick(uint32_t(tick_index));
+  struct ReleaseHold {  // a tick that throws after taking the newest image back must not hang a consumer
+    std::atomic<bool>& flag;
+    ~ReleaseHold() { flag.store(false, std::memory_order_release); }
+  } release_hold{holding_newest};
   TickSink sink(*this, cfg);
   const CollectResult r = engine.collect(cursor, sink);
   const bool full = sink.full;
@@ -124,10 +128,14 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     last_poll_tick = tick_index;
   }
   uint32_t untaken = newest | kNew;
-  if (tick_index >= last_poll_tick + kHistory && newest < 3 && newest != back &&
-      middle.compare_exchange_strong(untaken, back, std::memory_order_acq_rel, std::memory_order_relaxed)) {
-    back = newest;
-    ++reclaimed;
+  if (tick_index >= last_poll_tick + kHistory && newest < 3 && newest != back) {
+    holding_newest.store(true, std::memory_order_relaxed);  // before the CAS: its release publishes it
+    if (middle.compare_exchange_strong(untaken, back, std::memory_order_acq_rel, std::memory_order_relaxed)) {
+      back = newest;
+      ++reclaimed;
+    } else {
+      holding_newest.store(false, std::memory_order_release);  // the consumer took it meanwhile
+    }
   }
   PixelImage& img = buf[back];
   if (r.reset || newest > 2 || buf[newest].width != r.width || buf[newest].height != r.height) {
@@ -230,6 +238,7 @@ void DisplayThread::Impl::publish() {
   synced[back] = tick_index + 1;
   newest = back;
   const uint32_t old = middle.exchange(back | kNew, std::memory_order_acq_rel);
+  holding_newest.store(false, std::memory_order_release);
   back = old & 3u;
 }
 
@@ -337,6 +346,12 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   // (catch_up, while no consumer has asked lately) between this load and the exchange.
   d.consumer_polls.fetch_add(1, std::memory_order_relaxed);
   uint32_t in_middle = d.middle.load(std::memory_order_acquire);
+  // Nothing new because the display holds the newest image (taken back mid-tick): wait for this
+  // tick's publish, which always comes (run_tick clears the flag on any exit).
+  while (!(in_middle & Impl::kNew) && d.holding_newest.load(std::memory_order_acquire)) {
+    std::this_thread::yield();
+    in_middle = d.middle.load(std::memory_order_acquire);
+  }
   while ((in_middle & Impl::kNew) &&
          !d.middle.compare_exchange_weak(in_middle, d.front, std::memory_order_acq_rel, std::memory_order_acquire)) {
   }

@@ -90,6 +90,9 @@ struct DisplayThread::Impl {
   uint32_t newest = 3;
   uint64_t synced[3] = {0, 0, 0};
   std::atomic<uint32_t> middle{1};
+  // Set while the display holds the newest published image it took back (until that tick's
+  // publish): a consumer finding nothing new then waits for the publish instead of an older image.
+  std::atomic<bool> holding_newest{false};
   uint32_t back = 0;
   uint32_t front = 2;
   DisplayImage latest;        // consumer: public layers of buf[front]

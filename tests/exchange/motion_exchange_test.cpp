@@ -2,7 +2,8 @@
 // 3 render threads walking and serving the display's asks, the display thread at 240 Hz moving
 // its image at every camera change and asking for what it guessed, a consumer, a camera moving
 // at 200 Hz and a layout change (thread count) and a resize while everything runs. A plane
-// shader gives every sample a point, so every path of reprojection runs.
+// shader gives every sample a point, so every path of reprojection runs. And a consumer that
+// asks after a quiet spell, while the display moves the image it took back.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -99,6 +100,45 @@ TEST(MotionExchange, ReprojectionAndClosedLoopUnderACameraMoveAndLayoutChanges) 
   EXPECT_GT(consumed, 0u);
   EXPECT_EQ(non_finite, 0u);
   EXPECT_EQ(s.rejected, 0u);
+}
+
+// A consumer that asks after a quiet spell (the display has been blending into its untaken newest
+// image, as in a headless run) still gets that image, even while the display holds it to move it
+// (a camera change): the call waits for that tick's publish instead of returning an older image
+// or, on a first call, none at all.
+TEST(MotionExchange, AConsumerAfterAQuietSpellGetsTheNewestImage) {
+#if defined(__SANITIZE_THREAD__) || (defined(__has_feature) && __has_feature(thread_sanitizer))
+  const int width = 256, height = 144;  // instrumented: a move still spans several display periods
+#else
+  const int width = 1280, height = 720;  // a move of 10 ms or so: most calls land inside one
+#endif
+  EngineConfig c = test_config(width, height, 2, plane_shader);
+  Engine e(kEmptyScene, c, looking_down(0.0f));
+  DisplayConfig dc;
+  dc.refresh_hz = 240;
+  dc.blend.reproject = true;
+  DisplayThread d(e, dc);
+  e.start();
+  d.start();
+  int stale = 0, rounds = 0;
+  uint64_t last = 0;
+  for (; rounds < 20; ++rounds) {
+    while (d.stats().ticks < last + 12) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    e.publish_camera(looking_down(0.01f * float(rounds + 1)));  // the next tick moves the image
+    std::this_thread::sleep_for(std::chrono::milliseconds(1 + 5 * rounds % 12));  // spread over the move
+    const uint64_t published = d.stats().ticks;  // ticks 0 .. published - 1 are out
+    bool fresh = false;
+    const DisplayImage& img = d.acquire_latest(&fresh);
+    stale += !fresh || img.width != width || img.info.index + 1 < published;
+    last = d.stats().ticks;
+  }
+  const DisplayStats s = d.stats();
+  d.stop();
+  e.stop();
+  EXPECT_FALSE(d.error());
+  EXPECT_GT(s.reclaimed, 0u);  // the quiet spells did take images back
+  EXPECT_GT(s.reproject.reprojections, 0u);
+  EXPECT_EQ(stale, 0) << stale << " stale of " << rounds << " calls";
 }
 
 }  // namespace
