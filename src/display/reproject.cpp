@@ -209,7 +209,7 @@ void Reprojector::crack(uint32_t t, int w, int h) {
     if (best == kHole || depth_bits(f) > depth_bits(best)) best = f;
   }
   if (best == kHole) {
-    next_.push_back(t);
+    next_[next_count_++] = t;
     return;
   }
   fills_.push_back({t, best});
@@ -218,58 +218,85 @@ void Reprojector::crack(uint32_t t, int w, int h) {
 
 #if defined(__AVX512F__)
 // crack() for every hole, eight pixels of a row a step away from the border (the per-hole
-// branches mispredicted): the same float compares and depth-bit picks, so the same fills, in
-// pixel order.
+// branches mispredicted): the same float compares and depth-bit picks, so the same fills. A
+// fifth of the pixels are holes after a small turn (the splat's collisions), so the holes' marks,
+// fills and leftovers are stored a vector at a time, and a row's fills are applied once the next
+// row, the last to read its keys, is done (while they are still in cache).
 void Reprojector::cracks8(int w, int h) {
   const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
   const __m256 slack = _mm256_set1_ps(1.05f);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const auto depth = [](__m512i keys) { return _mm256_castsi256_ps(_mm512_cvtepi64_epi32(_mm512_srli_epi64(keys, 32))); };
   const auto scalar = [&](size_t t) {
     if (key_[t] == kHole) crack(uint32_t(t), w, h);
+  };
+  const size_t groups = size_t(w + 7) / 8;
+  for (int b = 0; b < 2; ++b) {
+    row_fill_[b].resize(groups * 8);
+    row_found_[b].assign(groups, 0);
+  }
+  // Row y's interior fills, from row_fill_[y & 1] where row_found_ says, once row y + 1 is done.
+  const auto apply = [&](int y) {
+    uint8_t* found = row_found_[y & 1].data();
+    const uint64_t* fill = row_fill_[y & 1].data();
+    const size_t row = size_t(y) * size_t(w);
+    for (size_t g = 0; g < groups; ++g) {
+      if (!found[g]) continue;
+      _mm512_mask_storeu_epi64(&key_[row + 1 + 8 * g], __mmask8(found[g]), _mm512_loadu_si512(fill + 8 * g));
+      found[g] = 0;
+    }
   };
   for (int y = 0; y < h; ++y) {
     const size_t row = size_t(y) * size_t(w);
     if (y == 0 || y == h - 1) {
       for (int x = 0; x < w; ++x) scalar(row + size_t(x));
-      continue;
-    }
-    scalar(row);
-    const size_t end = size_t(h) * size_t(w);
-    for (int x = 1; x < w - 1; x += 8) {
-      const size_t t = row + size_t(x);
-      // The next row is read only around holes (sparse masked loads the hardware prefetchers do
-      // not follow) and was last touched by the splat: ask for it 64 pixels ahead.
-      if (t + size_t(w) + 64 < end) __builtin_prefetch(&key_[t + size_t(w) + 64]);
-      const __mmask8 lanes = __mmask8(w - 1 - x >= 8 ? 0xffu : (1u << (w - 1 - x)) - 1u);
-      const __mmask8 holes = _mm512_mask_cmpeq_epu64_mask(lanes, _mm512_maskz_loadu_epi64(lanes, &key_[t]), hole);
-      if (!holes) continue;
-      __m512i best = hole;
-      __mmask8 found = 0;
-      for (const auto& d : kOpposite) {
-        const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
-        const __m512i kp = _mm512_maskz_loadu_epi64(holes, &key_[size_t(ptrdiff_t(t) + off)]);
-        const __m512i kq = _mm512_maskz_loadu_epi64(holes, &key_[size_t(ptrdiff_t(t) - off)]);
-        __mmask8 ok = _mm512_mask_cmpneq_epu64_mask(holes, kp, hole) & _mm512_cmpneq_epu64_mask(kq, hole);
-        const __m256 dp = depth(kp), dq = depth(kq);
-        ok &= __mmask8(~_mm256_cmp_ps_mask(_mm256_max_ps(dp, dq), _mm256_mul_ps(_mm256_min_ps(dp, dq), slack), _CMP_GT_OQ));
-        const __m512i f = _mm512_mask_blend_epi64(_mm256_cmp_ps_mask(dp, dq, _CMP_GE_OQ), kq, kp);
-        const __mmask8 better = ok & __mmask8(~found | _mm512_cmpgt_epu64_mask(_mm512_srli_epi64(f, 32), _mm512_srli_epi64(best, 32)));
-        best = _mm512_mask_mov_epi64(best, better, f);
-        found |= better;
-      }
-      alignas(64) uint64_t keys[8];
-      _mm512_store_si512(keys, best);
-      for (unsigned m = holes; m; m &= m - 1u) {
-        const unsigned i = unsigned(__builtin_ctz(m));
-        if (found >> i & 1u) {
-          fills_.push_back({uint32_t(t + i), keys[i]});
-          marks_[t + i] = kMarkFilled;
-        } else {
-          next_.push_back(uint32_t(t + i));
+    } else {
+      scalar(row);
+      const size_t end = size_t(h) * size_t(w);
+      uint8_t* found_row = row_found_[y & 1].data();
+      // Locals: through the members, every store made the loop load the count and data pointers again.
+      size_t left_count = next_count_;
+      uint64_t* keys = key_.data();
+      uint8_t* marks = marks_.data();
+      uint32_t* next = next_.data();
+      uint64_t* fill_row = row_fill_[y & 1].data();
+      for (int x = 1; x < w - 1; x += 8) {
+        const size_t t = row + size_t(x);
+        // The next row is read only around holes (sparse masked loads the hardware prefetchers do
+        // not follow) and was last touched by the splat: ask for it 64 pixels ahead.
+        if (t + size_t(w) + 64 < end) __builtin_prefetch(&keys[t + size_t(w) + 64]);
+        const __mmask8 lanes = __mmask8(w - 1 - x >= 8 ? 0xffu : (1u << (w - 1 - x)) - 1u);
+        const __mmask8 holes = _mm512_mask_cmpeq_epu64_mask(lanes, _mm512_maskz_loadu_epi64(lanes, &keys[t]), hole);
+        if (!holes) continue;
+        __m512i best = hole;
+        __mmask8 found = 0;
+        for (const auto& d : kOpposite) {
+          const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
+          const __m512i kp = _mm512_maskz_loadu_epi64(holes, &keys[size_t(ptrdiff_t(t) + off)]);
+          const __m512i kq = _mm512_maskz_loadu_epi64(holes, &keys[size_t(ptrdiff_t(t) - off)]);
+          __mmask8 ok = _mm512_mask_cmpneq_epu64_mask(holes, kp, hole) & _mm512_cmpneq_epu64_mask(kq, hole);
+          const __m256 dp = depth(kp), dq = depth(kq);
+          ok &= __mmask8(~_mm256_cmp_ps_mask(_mm256_max_ps(dp, dq), _mm256_mul_ps(_mm256_min_ps(dp, dq), slack), _CMP_GT_OQ));
+          const __m512i f = _mm512_mask_blend_epi64(_mm256_cmp_ps_mask(dp, dq, _CMP_GE_OQ), kq, kp);
+          const __mmask8 better = ok & __mmask8(~found | _mm512_cmpgt_epu64_mask(_mm512_srli_epi64(f, 32), _mm512_srli_epi64(best, 32)));
+          best = _mm512_mask_mov_epi64(best, better, f);
+          found |= better;
         }
+        const size_t g = size_t(x - 1) / 8;
+        _mm512_storeu_si512(fill_row + 8 * g, best);
+        found_row[g] = found;
+        _mm_mask_storeu_epi8(&marks[t], found, _mm_set1_epi8(char(kMarkFilled)));
+        const __mmask8 left = holes & __mmask8(~found);
+        // Compressed in a register, stored whole (next_ has 8 spare): a compressing store to
+        // memory is microcoded on some cores (Zen 4).
+        const __m256i at = _mm256_add_epi32(lane, _mm256_set1_epi32(int(t)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(&next[left_count]), _mm256_maskz_compress_epi32(left, at));
+        left_count += size_t(__builtin_popcount(left));
       }
+      next_count_ = left_count;
+      scalar(row + size_t(w) - 1);
     }
-    scalar(row + size_t(w) - 1);
+    if (y >= 2) apply(y - 1);  // row y - 1's keys are read by rows y - 2 to y only
   }
 }
 #endif
@@ -308,7 +335,8 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
   fills_.clear();
-  next_.clear();
+  if (next_.size() < n + 8) next_.resize(n + 8);  // holes left for the disocclusion search: next_[0, next_count_)
+  next_count_ = 0;
 #if defined(__AVX512F__)
   if (vectorized_ && w >= 3 && h >= 3) {
     cracks8(w, h);
@@ -325,14 +353,15 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   fills_.clear();
   // The vector window is cheaper than the rows at any number of holes.
   const bool by_rows =
-      search_ == Search::rows || (search_ == Search::automatic && !vector_window(max_fill) && next_.size() > n / 8);
+      search_ == Search::rows || (search_ == Search::automatic && !vector_window(max_fill) && next_count_ > n / 8);
   if (by_rows) {  // many holes (large steps: an edge band of new view)
     row_best_.resize(n);
     row_done_.assign(size_t(h), 0);
     prefix_.resize(size_t(w + 2 * max_fill));
     suffix_.resize(size_t(w + 2 * max_fill));
   }
-  for (const uint32_t t : next_) {
+  for (size_t i = 0; i < next_count_; ++i) {
+    const uint32_t t = next_[i];
     const int x = int(t % uint32_t(w)), y = int(t / uint32_t(w));
     const uint32_t best = by_rows ? farthest_in_rows(x, y, w, h, max_fill) : farthest_in_window(x, y, w, h, max_fill);
     marks_[t] = kMarkDisoccluded;
