@@ -44,7 +44,9 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   std::vector<DisplayPixel> px(n), px_out(n);
   std::vector<ScenePoint> points_out(n);
   std::vector<uint8_t> marks(n, kMarkMoved), marks_out(n);
-  for (size_t s = 0; s < n; ++s) px[s].epoch = 1;
+  // Epochs as a moving display shows them: each pixel the camera of its newest update, one of the
+  // last dozen changes, at random from pixel to pixel (the threads' pixels are shuffled).
+  for (size_t s = 0; s < n; ++s) px[s].epoch = 1 + uint32_t((uint64_t(s) * 0x9E3779B97F4A7C15ull) >> 60) % 12;
   Reprojector r;
   EpochCensus census;
   std::vector<double> ms, phase_ms[ReprojectTimes::kPhases];

@@ -415,20 +415,32 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       __builtin_prefetch(from.slot_of ? static_cast<const void*>(from.slot_of + ahead) : from.px + ahead); \
     }                                                                                      \
   }
-  // The census counts runs of one epoch (neighbours mostly show the same), not pixel by pixel.
-  uint32_t run_epoch = 0, run_pixels = 0;
-  const auto count_epoch = [&](uint32_t e) {
-    if (e != run_epoch) {
-      if (census) census->add(run_epoch, run_pixels);
-      run_epoch = e, run_pixels = 0;
+  // The census counts by epoch in 64 buckets (e mod 64) on the stack, four copies by index so
+  // that neighbours of one epoch do not wait on each other's increment, and adds each bucket once:
+  // a moving display's neighbours show epochs at random (the threads' pixels are shuffled), so
+  // counting runs of one epoch mispredicted at most pixels. A bucket meeting another epoch (64
+  // changes apart: rare) is added first.
+  constexpr uint32_t kBuckets = 64;
+  uint32_t bucket_epoch[kBuckets] = {}, bucket_count[4][kBuckets] = {};
+  const auto flush = [&](uint32_t b) {
+    const uint32_t c = bucket_count[0][b] + bucket_count[1][b] + bucket_count[2][b] + bucket_count[3][b];
+    if (c) census->add(bucket_epoch[b], c);
+    bucket_count[0][b] = bucket_count[1][b] = bucket_count[2][b] = bucket_count[3][b] = 0;
+  };
+  const auto count_epoch = [&](uint32_t e, size_t i) {
+    if (!census) return;
+    const uint32_t b = e % kBuckets;
+    if (bucket_epoch[b] != e) {
+      flush(b);
+      bucket_epoch[b] = e;
     }
-    ++run_pixels;
+    ++bucket_count[i & 3][b];
   };
   if (!to.pixel_of) {
     for (size_t t = 0; t < n; ++t) {  // slot = pixel: every array streams
       FRAMELESS_FETCH_SOURCE(t)
       to.px[t] = from.px[place(t)];
-      count_epoch(to.px[t].epoch);
+      count_epoch(to.px[t].epoch, t);
     }
     lap(ReprojectTimes::pixel_pass);
   } else {
@@ -449,12 +461,13 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       if (ts + kAhead < n) __builtin_prefetch(&source_slot_[pixel_of[ts + kAhead]]);
       if (ts + kAhead / 2 < n) __builtin_prefetch(&from.px[source_slot_[pixel_of[ts + kAhead / 2]]]);
       to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
-      count_epoch(to.px[ts].epoch);
+      count_epoch(to.px[ts].epoch, ts);
     }
     lap(ReprojectTimes::slot_pass);
   }
 #undef FRAMELESS_FETCH_SOURCE
-  if (census) census->add(run_epoch, run_pixels);
+  if (census)
+    for (uint32_t b = 0; b < kBuckets; ++b) flush(b);
   ReprojectStats stats;
   for (int m = 0; m < 256; ++m) {
     const size_t c = by_mark[0][m] + by_mark[1][m] + by_mark[2][m] + by_mark[3][m];
