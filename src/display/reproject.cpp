@@ -147,6 +147,13 @@ size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
   alignas(64) uint32_t target[16], depth_bits[16];
   for (size_t p = 0; p < n; p += 16) {
     if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
+      // Their points lie scattered among the marked ones (no stream the prefetchers see), each
+      // last written by a render thread's core: ask for them 64 pixels ahead.
+      if (p + 64 + 16 <= n) {
+        const __m128i ahead = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p + 64));
+        for (unsigned m = _mm_cmpeq_epi8_mask(ahead, _mm_setzero_si128()); m; m &= m - 1u)
+          __builtin_prefetch(from.engine_points + p + 64 + __builtin_ctz(m));
+      }
       const __m128i marks = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p));
       for (unsigned m = _mm_cmpeq_epi8_mask(marks, _mm_setzero_si128()); m; m &= m - 1u)
         from.points[p + __builtin_ctz(m)] = engine_point(from, p + __builtin_ctz(m));
