@@ -51,9 +51,9 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   }
   engine.note_display_tick(uint32_t(tick_index));
   struct ReleaseHold {  // a tick that throws after taking the newest image back must not hang a consumer
-    std::atomic<bool>& flag;
-    ~ReleaseHold() { flag.store(false, std::memory_order_release); }
-  } release_hold{holding_newest};
+    Impl& d;
+    ~ReleaseHold() { d.release_hold(); }
+  } hold_guard{*this};
   TickSink sink(*this, cfg);
   const CollectResult r = engine.collect(cursor, sink);
   const bool full = sink.full;
@@ -134,7 +134,7 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
       back = newest;
       ++reclaimed;
     } else {
-      holding_newest.store(false, std::memory_order_release);  // the consumer took it meanwhile
+      release_hold();  // the consumer took it meanwhile
     }
   }
   PixelImage& img = buf[back];
@@ -238,7 +238,7 @@ void DisplayThread::Impl::publish() {
   synced[back] = tick_index + 1;
   newest = back;
   const uint32_t old = middle.exchange(back | kNew, std::memory_order_acq_rel);
-  holding_newest.store(false, std::memory_order_release);
+  release_hold();
   back = old & 3u;
 }
 
@@ -346,10 +346,10 @@ const DisplayImage& DisplayThread::acquire_latest(bool* is_new) {
   // (catch_up, while no consumer has asked lately) between this load and the exchange.
   d.consumer_polls.fetch_add(1, std::memory_order_relaxed);
   uint32_t in_middle = d.middle.load(std::memory_order_acquire);
-  // Nothing new because the display holds the newest image (taken back mid-tick): wait for this
-  // tick's publish, which always comes (run_tick clears the flag on any exit).
+  // Nothing new because the display holds the newest image (taken back mid-tick): sleep until this
+  // tick's publish, which always comes (run_tick releases the hold on any exit).
   while (!(in_middle & Impl::kNew) && d.holding_newest.load(std::memory_order_acquire)) {
-    std::this_thread::yield();
+    d.holding_newest.wait(true, std::memory_order_acquire);
     in_middle = d.middle.load(std::memory_order_acquire);
   }
   while ((in_middle & Impl::kNew) &&

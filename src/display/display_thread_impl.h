@@ -93,6 +93,11 @@ struct DisplayThread::Impl {
   // Set while the display holds the newest published image it took back (until that tick's
   // publish): a consumer finding nothing new then waits for the publish instead of an older image.
   std::atomic<bool> holding_newest{false};
+  // Clears holding_newest and wakes a consumer waiting on it (no system call while none waits).
+  void release_hold() {
+    holding_newest.store(false, std::memory_order_release);
+    holding_newest.notify_all();
+  }
   uint32_t back = 0;
   uint32_t front = 2;
   DisplayImage latest;        // consumer: public layers of buf[front]
