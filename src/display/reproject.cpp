@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "display/reproject_keys.h"
+
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #if defined(__GNUC__) && !defined(__clang__)
@@ -16,37 +18,7 @@
 #endif
 
 namespace frameless {
-namespace {
-
-constexpr uint32_t kNone = ~0u;
-constexpr uint64_t kHole = ~uint64_t(0);  // no point landed (depth bits 0xffffffff: a NaN, never a depth)
-
-// The pairs of opposite neighbours a crack is closed across.
-constexpr int kOpposite[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-
-inline uint32_t depth_bits(uint64_t key) { return uint32_t(key >> 32); }
-inline float key_depth(uint64_t key) {
-  float d;
-  const uint32_t bits = depth_bits(key);
-  std::memcpy(&d, &bits, sizeof d);
-  return d;
-}
-// Depths are positive or +infinity, so their bits order as the depths do.
-inline uint64_t make_key(float depth, uint32_t source) {
-  uint32_t bits;
-  std::memcpy(&bits, &depth, sizeof bits);
-  return uint64_t(bits) << 32 | source;
-}
-
-// The engine's point of unmarked pixel p, all of it from one update: a point its owner keeps
-// rewriting counts as none (the pixel moves nowhere this time; its next update is shown in place).
-inline ScenePoint engine_point(const SlotImage& img, size_t p) {
-  ScenePoint out;
-  if (!read_point(img.engine_points[p], out)) out = ScenePoint{};
-  return out;
-}
-
-}  // namespace
+using namespace reproject_keys;
 
 // The farther of two landed pixels (kNone: none); a tie goes to the lower pixel index, so both
 // searches below pick the same pixel.
@@ -59,7 +31,7 @@ uint32_t Reprojector::farther(uint32_t a, uint32_t b) const {
 
 // Whether farthest_in_window takes a window row (at most 7 keys) per vector compare.
 bool Reprojector::vector_window(int r) const {
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) || defined(__AVX2__)
   return vectorized_ && r <= 3;
 #else
   (void)r;
@@ -91,6 +63,8 @@ uint32_t Reprojector::farthest_in_window(int x, int y, int w, int h, int r) cons
     }
     return best;
   }
+#elif defined(__AVX2__)
+  if (vector_window(r)) return farthest_in_window4(x, y, w, h, r);
 #endif
   uint32_t best = kNone;
   for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
@@ -330,6 +304,8 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   size_t p0 = 0;
 #if defined(__AVX512F__)
   if (vectorized_) p0 = splat16(project, from, w);
+#elif defined(__AVX2__)
+  if (vectorized_) p0 = splat8(project, from, w);
 #endif
   for (size_t p = p0; p < n; ++p) {
     if (from.engine_points && !from.marks[p]) from.points[p] = engine_point(from, p);
@@ -347,6 +323,10 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
 #if defined(__AVX512F__)
   if (vectorized_ && w >= 3 && h >= 3) {
     cracks8(w, h);
+  } else
+#elif defined(__AVX2__)
+  if (vectorized_ && w >= 3 && h >= 3) {
+    cracks4(w, h);
   } else
 #endif
   {

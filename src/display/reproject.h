@@ -128,8 +128,8 @@ class Reprojector {
   // there is one, else picks by the number of holes. All give the same image.
   enum class Search { automatic, window, rows };
   void set_search(Search s) { search_ = s; }
-  // AVX-512 paths (splat, crack search, disocclusion window) where the build has them; off:
-  // the scalar code, which they must match exactly (tested).
+  // AVX-512 paths (splat, crack search, disocclusion window) where the build has them, else
+  // AVX2 ones (the same three); off: the scalar code, which they must match exactly (tested).
   void set_vectorized(bool on) { vectorized_ = on; }
   // The phases of the last run().
   const ReprojectTimes& last_times() const { return times_; }
@@ -140,6 +140,11 @@ class Reprojector {
   size_t splat16(const Projector& project, const SlotImage& from, int w);
   void crack(uint32_t t, int w, int h);
   void cracks8(int w, int h);
+  // The AVX2 forms of splat16, cracks8 and the vector window (reproject_avx2.cpp), for cores
+  // without AVX-512.
+  size_t splat8(const Projector& project, const SlotImage& from, int w);
+  void cracks4(int w, int h);
+  uint32_t farthest_in_window4(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_rows(int x, int y, int w, int h, int r);
   Search search_ = Search::automatic;

@@ -1,0 +1,191 @@
+// Reprojection's splat, crack search and disocclusion window in AVX2, for cores without AVX-512 (the AMD EPYC 7xx3
+// machines this project also runs on, where the scalar splat and crack search took 60 % of a
+// change): the same operations as the scalar code, so the same image (tested).
+#include <algorithm>
+#include <limits>
+
+#include "display/reproject.h"
+#include "display/reproject_keys.h"
+
+#if defined(__AVX2__) && !defined(__AVX512F__)
+#include <immintrin.h>
+
+namespace frameless {
+using namespace reproject_keys;
+namespace {
+
+// Bit i set where byte i of the eight at `p` is zero (kMarkNone).
+inline uint32_t zero_bytes(const uint8_t* p) {
+  const __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
+  return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))) & 0xffu;
+}
+
+// The depths of four keys (their high halves), as floats.
+inline __m128 depths(__m256i keys) {
+  const __m256i odd = _mm256_permutevar8x32_epi32(keys, _mm256_setr_epi32(1, 3, 5, 7, 1, 3, 5, 7));
+  return _mm_castsi128_ps(_mm256_castsi256_si128(odd));
+}
+
+// Four 32-bit lane masks widened to four 64-bit lane masks.
+inline __m256i widen(__m128 mask) { return _mm256_cvtepi32_epi64(_mm_castps_si128(mask)); }
+
+}  // namespace
+
+// splat16 eight slots a step: four vectors of two points each transposed into components (lane
+// i holds point kLane[i]), projected with Projector's fused operations, then each landed point's
+// key kept if nearer (a minimum: the order of the lanes does not matter).
+size_t Reprojector::splat8(const Projector& pr, const SlotImage& from, int w) {
+  static constexpr uint32_t kLane[8] = {0, 2, 4, 6, 1, 3, 5, 7};
+  const size_t n = from.pixels() / 8 * 8;
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+  const __m256i none = _mm256_set1_epi32(int(kPointNone)), sky = _mm256_set1_epi32(int(kPointSky));
+  alignas(32) uint32_t target[8], depth_bits[8];
+  for (size_t p = 0; p < n; p += 8) {
+    if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
+      // Scattered among the marked ones and last written by a render thread's core: asked for
+      // 64 pixels ahead.
+      if (p + 64 + 8 <= n)
+        for (uint32_t m = zero_bytes(from.marks + p + 64); m; m &= m - 1u)
+          __builtin_prefetch(from.engine_points + p + 64 + __builtin_ctz(m));
+      for (uint32_t m = zero_bytes(from.marks + p); m; m &= m - 1u)
+        from.points[p + __builtin_ctz(m)] = engine_point(from, p + __builtin_ctz(m));
+    }
+    const float* f = reinterpret_cast<const float*>(from.points + p);
+    const __m256 a = _mm256_loadu_ps(f), b = _mm256_loadu_ps(f + 8), c = _mm256_loadu_ps(f + 16),
+                 d = _mm256_loadu_ps(f + 24);
+    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
+    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+    const __m256 px = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m256 py = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    const __m256 pz = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m256i object = _mm256_castps_si256(_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2)));
+    const __m256 is_sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(object, sky));
+    // The sky's point is a direction; any other is a position.
+    const __m256 dx = _mm256_blendv_ps(_mm256_sub_ps(px, _mm256_set1_ps(pr.eye.x)), px, is_sky);
+    const __m256 dy = _mm256_blendv_ps(_mm256_sub_ps(py, _mm256_set1_ps(pr.eye.y)), py, is_sky);
+    const __m256 dz = _mm256_blendv_ps(_mm256_sub_ps(pz, _mm256_set1_ps(pr.eye.z)), pz, is_sky);
+    const auto dot = [&](const Vec3& v) {  // dot_exact's order: z's product, then y and x fused
+      return _mm256_fmadd_ps(dx, _mm256_set1_ps(v.x),
+                             _mm256_fmadd_ps(dy, _mm256_set1_ps(v.y), _mm256_mul_ps(dz, _mm256_set1_ps(v.z))));
+    };
+    const __m256 z = dot(pr.w);
+    const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
+    const __m256 sx = _mm256_fmadd_ps(dot(pr.x), inv, _mm256_set1_ps(pr.cx));
+    const __m256 sy = _mm256_fnmadd_ps(dot(pr.y), inv, _mm256_set1_ps(pr.cy));
+    __m256 in = _mm256_cmp_ps(z, zero, _CMP_GT_OQ);
+    in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sx, zero, _CMP_GE_OQ),
+                                         _mm256_cmp_ps(sx, _mm256_set1_ps(pr.width), _CMP_LT_OQ)));
+    in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sy, zero, _CMP_GE_OQ),
+                                         _mm256_cmp_ps(sy, _mm256_set1_ps(pr.height), _CMP_LT_OQ)));
+    in = _mm256_andnot_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(object, none)), in);
+    const uint32_t landed = uint32_t(_mm256_movemask_ps(in));
+    if (!landed) continue;
+    const __m256i t = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(sy), _mm256_set1_epi32(w)),
+                                       _mm256_cvttps_epi32(sx));
+    _mm256_store_si256(reinterpret_cast<__m256i*>(target), t);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(depth_bits), _mm256_castps_si256(_mm256_blendv_ps(z, inf, is_sky)));
+    for (uint32_t m = landed; m; m &= m - 1u) {
+      const unsigned i = unsigned(__builtin_ctz(m));
+      uint64_t& k = key_[target[i]];
+      k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + kLane[i]));
+    }
+  }
+  return n;
+}
+
+// crack() for every hole, four pixels of a row a step away from the border (the per-hole
+// branches mispredicted): the same float compares and depth-bit picks, so the same fills, which
+// are applied after the pass as crack()'s are.
+void Reprojector::cracks4(int w, int h) {
+  const __m256i hole = _mm256_set1_epi64x(int64_t(kHole));
+  const __m128 slack = _mm_set1_ps(1.05f);
+  const size_t end = size_t(h) * size_t(w);
+  alignas(32) uint64_t best_keys[4];
+  const auto scalar = [&](size_t t) {
+    if (key_[t] == kHole) crack(uint32_t(t), w, h);
+  };
+  for (int y = 0; y < h; ++y) {
+    const size_t row = size_t(y) * size_t(w);
+    if (y == 0 || y == h - 1) {
+      for (int x = 0; x < w; ++x) scalar(row + size_t(x));
+      continue;
+    }
+    scalar(row);
+    const uint64_t* keys = key_.data();
+    int x = 1;
+    for (; x + 4 <= w - 1; x += 4) {
+      const size_t t = row + size_t(x);
+      // The next row is read only around holes and was last touched by the splat: ask for it
+      // 64 pixels ahead.
+      if (t + size_t(w) + 64 < end) __builtin_prefetch(&keys[t + size_t(w) + 64]);
+      const __m256i holes = _mm256_cmpeq_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[t])), hole);
+      if (_mm256_testz_si256(holes, holes)) continue;
+      __m256i best = hole, found = _mm256_setzero_si256();
+      for (const auto& d : kOpposite) {
+        const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
+        const __m256i kp = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[size_t(ptrdiff_t(t) + off)]));
+        const __m256i kq = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[size_t(ptrdiff_t(t) - off)]));
+        __m256i ok = _mm256_andnot_si256(_mm256_cmpeq_epi64(kp, hole), holes);
+        ok = _mm256_andnot_si256(_mm256_cmpeq_epi64(kq, hole), ok);
+        const __m128 dp = depths(kp), dq = depths(kq);
+        // An edge between two surfaces, not a crack.
+        ok = _mm256_andnot_si256(widen(_mm_cmp_ps(_mm_max_ps(dp, dq), _mm_mul_ps(_mm_min_ps(dp, dq), slack), _CMP_GT_OQ)), ok);
+        const __m256i fill = _mm256_blendv_epi8(kq, kp, widen(_mm_cmp_ps(dp, dq, _CMP_GE_OQ)));
+        const __m256i farther = _mm256_cmpgt_epi64(_mm256_srli_epi64(fill, 32), _mm256_srli_epi64(best, 32));
+        // Taken where none was found yet or this pair's fill is farther.
+        const __m256i better = _mm256_andnot_si256(_mm256_andnot_si256(farther, found), ok);
+        best = _mm256_blendv_epi8(best, fill, better);
+        found = _mm256_or_si256(found, better);
+      }
+      const uint32_t hole_lanes = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(holes)));
+      const uint32_t found_lanes = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(found)));
+      if (found_lanes) {
+        _mm256_store_si256(reinterpret_cast<__m256i*>(best_keys), best);
+        for (uint32_t m = found_lanes; m; m &= m - 1u) {
+          const unsigned i = unsigned(__builtin_ctz(m));
+          fills_.push_back({uint32_t(t + i), best_keys[i]});
+          marks_[t + i] = kMarkFilled;
+        }
+      }
+      for (uint32_t m = hole_lanes & ~found_lanes; m; m &= m - 1u) next_[next_count_++] = uint32_t(t) + uint32_t(__builtin_ctz(m));
+    }
+    for (; x < w; ++x) scalar(row + size_t(x));
+  }
+}
+
+// farthest_in_window for r <= 3: a window row (at most 7 keys) in two vectors, its landed depths
+// packed into one vector of eight, their maximum, and its first lane: the scalar search's pick
+// (rows in pixel order, a strictly farther depth across rows, the lower pixel on a tie).
+uint32_t Reprojector::farthest_in_window4(int x, int y, int w, int h, int r) const {
+  const int x0 = std::max(0, x - r), x1 = std::min(w - 1, x + r);
+  const __m256i count = _mm256_set1_epi64x(x1 - x0 + 1);
+  const __m256i lo_lanes = _mm256_cmpgt_epi64(count, _mm256_setr_epi64x(0, 1, 2, 3));
+  const __m256i hi_lanes = _mm256_cmpgt_epi64(count, _mm256_setr_epi64x(4, 5, 6, 7));
+  const __m256i hole = _mm256_set1_epi64x(int64_t(kHole));
+  const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);  // a 64-bit lane's low half
+  uint32_t best = kNone, best_depth = 0;
+  for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy) {
+    const size_t base = size_t(yy) * size_t(w) + size_t(x0);
+    const long long* row = reinterpret_cast<const long long*>(&key_[base]);
+    const __m256i lo = _mm256_maskload_epi64(row, lo_lanes), hi = _mm256_maskload_epi64(row + 4, hi_lanes);
+    // Depth bits of landed lanes; 0 elsewhere (a landed depth is positive).
+    const __m256i lo_depth = _mm256_and_si256(_mm256_srli_epi64(lo, 32), _mm256_andnot_si256(_mm256_cmpeq_epi64(lo, hole), lo_lanes));
+    const __m256i hi_depth = _mm256_and_si256(_mm256_srli_epi64(hi, 32), _mm256_andnot_si256(_mm256_cmpeq_epi64(hi, hole), hi_lanes));
+    const __m256i depth = _mm256_inserti128_si256(
+        _mm256_castsi128_si256(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(lo_depth, low))),
+        _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(hi_depth, low)), 1);
+    __m128i m = _mm_max_epu32(_mm256_castsi256_si128(depth), _mm256_extracti128_si256(depth, 1));
+    m = _mm_max_epu32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm_max_epu32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1)));
+    const uint32_t d = uint32_t(_mm_cvtsi128_si32(m));
+    if (d == 0 || (best != kNone && d <= best_depth)) continue;
+    const uint32_t at = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(depth, _mm256_set1_epi32(int(d))))));
+    best = uint32_t(base) + uint32_t(__builtin_ctz(at));
+    best_depth = d;
+  }
+  return best;
+}
+
+}  // namespace frameless
+#endif
