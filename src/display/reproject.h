@@ -162,8 +162,8 @@ class Reprojector {
   std::vector<uint8_t> marks_;   // by pixel: kMarkMoved, or how a hole was filled
   std::vector<uint32_t> next_;   // holes (nothing landed) that are no crack: the first next_count_
   size_t next_count_ = 0;
-  std::vector<uint64_t> row_fill_[2];  // cracks8: a row's fill keys, 8 per group of 8 pixels
-  std::vector<uint8_t> row_found_[2];  // cracks8: which of a group's pixels were filled
+  std::vector<uint64_t> row_fill_[2];  // cracks8 (cracks4): a row's fill keys, 8 (4) per group
+  std::vector<uint8_t> row_found_[2];  // cracks8 (cracks4): which of a group's pixels were filled
   std::vector<Fill> fills_;      // a pass's fills, applied together after it
   std::vector<Vec3> row_dirs_;   // the new camera's centre ray of each row's first pixel
   std::vector<uint32_t> source_slot_;  // by pixel: the slot of `from` the gather copies

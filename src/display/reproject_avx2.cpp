@@ -2,6 +2,7 @@
 // machines this project also runs on, where the scalar splat and crack search took 60 % of a
 // change): the same operations as the scalar code, so the same image (tested).
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "display/reproject.h"
@@ -94,25 +95,65 @@ size_t Reprojector::splat8(const Projector& pr, const SlotImage& from, int w) {
   return n;
 }
 
-// crack() for every hole, four pixels of a row a step away from the border (the per-hole
-// branches mispredicted): the same float compares and depth-bit picks, so the same fills, which
-// are applied after the pass as crack()'s are.
+// crack() for every hole, four pixels of a row a step away from the border: the same float
+// compares and depth-bit picks, so the same fills. A fifth of the pixels are holes after a small
+// turn, found at random among the lanes, so nothing is decided lane by lane: a group's marks are
+// one 4-byte store, its leftover holes one compressed store, and a row's fills are applied once
+// the next row, the last to read its keys, is done (crack()'s fills, on the border, after the pass).
 void Reprojector::cracks4(int w, int h) {
   const __m256i hole = _mm256_set1_epi64x(int64_t(kHole));
   const __m128 slack = _mm_set1_ps(1.05f);
   const size_t end = size_t(h) * size_t(w);
-  alignas(32) uint64_t best_keys[4];
+  const size_t groups = size_t(w + 3) / 4;
+  for (int b = 0; b < 2; ++b) {
+    row_fill_[b].resize(groups * 4);
+    row_found_[b].assign(groups, 0);
+  }
+  // The marks of a group by its mask of filled lanes (little-endian bytes: lane 0 first).
+  uint32_t group_marks[16];
+  // The lanes of each mask, first to last, then the rest (their values are not counted).
+  alignas(16) int32_t compress[16][4];
+  for (uint32_t m = 0; m < 16; ++m) {
+    group_marks[m] = 0;
+    int k = 0;
+    for (int i = 0; i < 4; ++i) {
+      group_marks[m] |= uint32_t(m >> i & 1u ? kMarkFilled : kMarkMoved) << (8 * i);
+      if (m >> i & 1u) compress[m][k++] = i;
+    }
+    for (; k < 4; ++k) compress[m][k] = 0;
+  }
   const auto scalar = [&](size_t t) {
     if (key_[t] == kHole) crack(uint32_t(t), w, h);
+  };
+  // Row y's interior fills, from row_fill_[y & 1] where row_found_ says.
+  const auto apply = [&](int y) {
+    uint8_t* found = row_found_[y & 1].data();
+    const uint64_t* fill = row_fill_[y & 1].data();
+    const size_t row = size_t(y) * size_t(w);
+    const __m256i lane_bit = _mm256_setr_epi64x(1, 2, 4, 8);
+    for (size_t g = 0; g < groups; ++g) {
+      if (!found[g]) continue;
+      const __m256i lanes = _mm256_cmpeq_epi64(_mm256_and_si256(_mm256_set1_epi64x(found[g]), lane_bit), lane_bit);
+      _mm256_maskstore_epi64(reinterpret_cast<long long*>(&key_[row + 1 + 4 * g]), lanes,
+                             _mm256_loadu_si256(reinterpret_cast<const __m256i*>(fill + 4 * g)));
+      found[g] = 0;
+    }
   };
   for (int y = 0; y < h; ++y) {
     const size_t row = size_t(y) * size_t(w);
     if (y == 0 || y == h - 1) {
       for (int x = 0; x < w; ++x) scalar(row + size_t(x));
+      if (y >= 2) apply(y - 1);
       continue;
     }
     scalar(row);
+    // Locals: through the members, every store made the loop load the count and data pointers again.
     const uint64_t* keys = key_.data();
+    uint8_t* marks = marks_.data();
+    uint32_t* next = next_.data();
+    size_t left_count = next_count_;
+    uint64_t* fill_row = row_fill_[y & 1].data();
+    uint8_t* found_row = row_found_[y & 1].data();
     int x = 1;
     for (; x + 4 <= w - 1; x += 4) {
       const size_t t = row + size_t(x);
@@ -140,17 +181,21 @@ void Reprojector::cracks4(int w, int h) {
       }
       const uint32_t hole_lanes = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(holes)));
       const uint32_t found_lanes = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(found)));
-      if (found_lanes) {
-        _mm256_store_si256(reinterpret_cast<__m256i*>(best_keys), best);
-        for (uint32_t m = found_lanes; m; m &= m - 1u) {
-          const unsigned i = unsigned(__builtin_ctz(m));
-          fills_.push_back({uint32_t(t + i), best_keys[i]});
-          marks_[t + i] = kMarkFilled;
-        }
-      }
-      for (uint32_t m = hole_lanes & ~found_lanes; m; m &= m - 1u) next_[next_count_++] = uint32_t(t) + uint32_t(__builtin_ctz(m));
+      const size_t g = size_t(x - 1) / 4;
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(fill_row + 4 * g), best);
+      found_row[g] = uint8_t(found_lanes);
+      std::memcpy(&marks[t], &group_marks[found_lanes], 4);
+      // The holes left for the disocclusion search, compressed in a register and stored whole
+      // (next_ has 8 spare).
+      const uint32_t left = hole_lanes & ~found_lanes;
+      const __m128i at = _mm_add_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(int(t)));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(&next[left_count]),
+                       _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(at), _mm_load_si128(reinterpret_cast<const __m128i*>(compress[left])))));
+      left_count += size_t(__builtin_popcount(left));
     }
+    next_count_ = left_count;
     for (; x < w; ++x) scalar(row + size_t(x));
+    if (y >= 2) apply(y - 1);  // row y - 1's keys are read by rows y - 2 to y only
   }
 }
 
