@@ -238,6 +238,8 @@ int run_build(const BuildOptions& a) {
       std::printf("  %-28s %10.3f %10.3f\n", "embree (rtcCommitScene)", e1, en);
       std::printf("  %-28s %10.2f %10.2f\n", "ratio ours / embree", o1 / e1, on / en);
       if (g.num_patches()) std::printf("  (Embree's scene has the triangles and spheres only)\n");
+    } else if (!a.no_embree) {
+      std::printf("  Embree 3 (the peer): not in this build, no ratios (tools/install-deps.sh --bench, then build again)\n");
     }
   }
   if (a.json) std::printf("%s\n", out.dump().c_str());

@@ -294,6 +294,7 @@ int run_engine(const EngineBenchOptions& a) {
     j["display_reprojections_per_s"] = median(reproj_rate);
     j["display_cpu_fraction_still_reproject"] = median(cpu_still_reproject);
     j["display_moving_reproject_by_size"] = by_size;
+    j["reproject_vector_paths"] = Reprojector::vector_paths();
     j["latency_ms"] = {{"p50", median(p50)}, {"p95", median(p95)}, {"p100", median(p100)}};
     j["latency_ideal_ms"] = median(ideal);
     j["latency_repeats"] = p50.size();
@@ -326,7 +327,7 @@ int run_engine(const EngineBenchOptions& a) {
                     100.0 * m["reproject_cpu_fraction"].get<double>(), m["reprojections_per_s"].get<double>(),
                     m["ms_per_reprojection"].get<double>());
         for (const char* name : ReprojectTimes::kNames) std::printf(" %s %.2f", name, m["phases_wall_ms"][name].get<double>());
-        std::printf("\n");
+        std::printf(" (%s paths)\n", Reprojector::vector_paths());
       }
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));

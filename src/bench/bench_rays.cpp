@@ -433,6 +433,8 @@ int run_rays(const RaysOptions& a) {
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
                 embree.version().c_str(), e["build_ms_1t"].get<double>(), embree.build_ms(), threads);
   }
+#else
+  std::printf("Embree 3 (the peer): not in this build, no ratios (tools/install-deps.sh --bench, then build again)\n");
 #endif
   std::printf("packets vs single rays: %zu of %zu primary and %zu of %zu shadow results differ\n",
               primary.size() - packet_same, primary.size(), shadow.size() - packet_occ_same,

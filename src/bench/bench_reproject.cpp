@@ -105,7 +105,8 @@ int run_reproject(const ReprojectOptions& o) {
   const double px = double(w) * double(h);
   if (o.json) {
     nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
-                        {"degrees", o.degrees}, {"changes", o.changes}};
+                        {"degrees", o.degrees}, {"changes", o.changes},
+                        {"vector_paths", Reprojector::vector_paths()}};
     for (const auto& [name, t] :
          {std::pair{"curve_order", curve}, std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
       if (t.median_ms > 0) {
@@ -116,8 +117,8 @@ int run_reproject(const ReprojectOptions& o) {
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
-  std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d\n",
-              o.scene.c_str(), w, h, o.degrees, o.changes);
+  std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d (%s paths)\n",
+              o.scene.c_str(), w, h, o.degrees, o.changes, Reprojector::vector_paths());
   for (const auto& [name, t] : {std::pair{"curve (the display's)", curve}, std::pair{"engine's slot order", slots},
                                 std::pair{"pixel order", pixels}})
     if (t.median_ms > 0) {

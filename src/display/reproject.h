@@ -133,6 +133,17 @@ class Reprojector {
   void set_vectorized(bool on) { vectorized_ = on; }
   // The phases of the last run().
   const ReprojectTimes& last_times() const { return times_; }
+  // Which vector paths this build has ("AVX-512", "AVX2" or "scalar"): reprojection's cost
+  // differs by about 1.5x between them, so benchmarks say which ran.
+  static const char* vector_paths() {
+#if defined(__AVX512F__)
+    return "AVX-512";
+#elif defined(__AVX2__)
+    return "AVX2";
+#else
+    return "scalar";
+#endif
+  }
 
  private:
   uint32_t farther(uint32_t a, uint32_t b) const;

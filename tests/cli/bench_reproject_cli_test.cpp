@@ -4,6 +4,8 @@
 // passes along the curve and in slot order), bad arguments one line each. (No timing is asserted.)
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_test_util.h"
@@ -16,6 +18,9 @@ TEST(BenchReprojectCli, JsonReportsEveryOrderAndAPlausibleMove) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
   ASSERT_FALSE(j.is_discarded()) << r.output;
+  // Which vector paths ran (their costs differ by machine).
+  const std::string paths = j.value("vector_paths", "");
+  EXPECT_TRUE(paths == "AVX-512" || paths == "AVX2" || paths == "scalar") << r.output;
   for (const char* order : {"curve_order", "slot_order", "pixel_order"}) {
     ASSERT_TRUE(j.contains(order)) << r.output;
     EXPECT_GT(j[order]["median_ms"].get<double>(), 0.0);
