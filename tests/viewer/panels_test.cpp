@@ -40,7 +40,7 @@ TEST(Panels, ShowOverTheImageAndALightControlTintsIt) {
       // ctest (at 2.5 s the blue mean beside the panel still rose 3.1 % by 3.3 s there once).
       "0.1 key O\n3.5 screenshot " + plain.string() + "\n3.6 panel lights\n4.3 screenshot " +
           shown.string() + "\n4.4 set light0.color 0.05 0.05 1\n" +
-          "6.0 screenshot " + blue.string() + "\n6.1 key TAB\n6.6 screenshot " + hidden.string() + "\n6.7 quit\n",
+          "6.8 screenshot " + blue.string() + "\n6.9 key TAB\n7.4 screenshot " + hidden.string() + "\n7.5 quit\n",
       dir, &log);
   ASSERT_EQ(status, 0) << log;
   const ExrImage a = screenshot(plain, log), b = screenshot(shown, log), c = screenshot(blue, log),
@@ -57,9 +57,10 @@ TEST(Panels, ShowOverTheImageAndALightControlTintsIt) {
     EXPECT_NEAR(channel_mean(b, c, kImageLeft, kWidth), channel_mean(a, c, kImageLeft, kWidth),
                 0.03 * channel_mean(a, c, kImageLeft, kWidth)) << c;
   // A blue light: the image's blue-to-red ratio rises (1.04 before; 1.54 after 1.6 s under ASan
-  // beside a parallel ctest, more when the machine is free; 1.035 when the control does nothing).
+  // beside a parallel ctest on one machine, only 1.26 on a slower one, more when the machine is
+  // free; 1.035, a rise of none, when the control does nothing). So 2.4 s, and a rise of 15 %.
   auto ratio = [](const ExrImage& e) { return channel_mean(e, "B", kImageLeft, kWidth) / channel_mean(e, "R", kImageLeft, kWidth); };
-  EXPECT_GT(ratio(c), 1.3 * ratio(b)) << ratio(b) << " -> " << ratio(c);
+  EXPECT_GT(ratio(c), 1.15 * ratio(b)) << ratio(b) << " -> " << ratio(c);
   // Tab hides the panels: the left shows the (blue) image again, not the panel.
   EXPECT_GT(mean_difference(c, d, 0, kPanelRight), 0.05);
   EXPECT_GT(channel_mean(d, "B", 0, kPanelRight), channel_mean(d, "R", 0, kPanelRight));
