@@ -109,19 +109,23 @@ void Reprojector::cracks4(int w, int h) {
     row_fill_[b].resize(groups * 4);
     row_found_[b].assign(groups, 0);
   }
-  // The marks of a group by its mask of filled lanes (little-endian bytes: lane 0 first).
-  uint32_t group_marks[16];
-  // The lanes of each mask, first to last, then the rest (their values are not counted).
-  alignas(16) int32_t compress[16][4];
-  for (uint32_t m = 0; m < 16; ++m) {
-    group_marks[m] = 0;
-    int k = 0;
-    for (int i = 0; i < 4; ++i) {
-      group_marks[m] |= uint32_t(m >> i & 1u ? kMarkFilled : kMarkMoved) << (8 * i);
-      if (m >> i & 1u) compress[m][k++] = i;
+  // By a group's mask of filled lanes: its four marks (little-endian bytes, lane 0 first), and
+  // its lanes first to last, then zeros (not counted). Built once.
+  struct Tables {
+    uint32_t marks[16];
+    alignas(16) int32_t compress[16][4];
+  };
+  static const Tables tables = [] {
+    Tables t{};
+    for (uint32_t m = 0; m < 16; ++m) {
+      int k = 0;
+      for (int i = 0; i < 4; ++i) {
+        t.marks[m] |= uint32_t(m >> i & 1u ? kMarkFilled : kMarkMoved) << (8 * i);
+        if (m >> i & 1u) t.compress[m][k++] = i;
+      }
     }
-    for (; k < 4; ++k) compress[m][k] = 0;
-  }
+    return t;
+  }();
   const auto scalar = [&](size_t t) {
     if (key_[t] == kHole) crack(uint32_t(t), w, h);
   };
@@ -141,9 +145,9 @@ void Reprojector::cracks4(int w, int h) {
   };
   for (int y = 0; y < h; ++y) {
     const size_t row = size_t(y) * size_t(w);
-    if (y == 0 || y == h - 1) {
+    if (y == 0 || y == h - 1) {  // the border: crack() alone
       for (int x = 0; x < w; ++x) scalar(row + size_t(x));
-      if (y >= 2) apply(y - 1);
+      if (y == h - 1 && y >= 2) apply(y - 1);
       continue;
     }
     scalar(row);
@@ -184,13 +188,13 @@ void Reprojector::cracks4(int w, int h) {
       const size_t g = size_t(x - 1) / 4;
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(fill_row + 4 * g), best);
       found_row[g] = uint8_t(found_lanes);
-      std::memcpy(&marks[t], &group_marks[found_lanes], 4);
+      std::memcpy(&marks[t], &tables.marks[found_lanes], 4);
       // The holes left for the disocclusion search, compressed in a register and stored whole
       // (next_ has 8 spare).
       const uint32_t left = hole_lanes & ~found_lanes;
       const __m128i at = _mm_add_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(int(t)));
       _mm_storeu_si128(reinterpret_cast<__m128i*>(&next[left_count]),
-                       _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(at), _mm_load_si128(reinterpret_cast<const __m128i*>(compress[left])))));
+                       _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(at), _mm_load_si128(reinterpret_cast<const __m128i*>(tables.compress[left])))));
       left_count += size_t(__builtin_popcount(left));
     }
     next_count_ = left_count;
