@@ -15,10 +15,6 @@ constexpr float kSigmaLuminance = 1.0f;  // luminance difference in standard dev
 constexpr float kKernel[3] = {0.25f, 0.5f, 0.25f};
 
 inline float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
-// Pixels the filter works on: surfaces with a normal and an albedo (not the sky, not emitters).
-inline bool surface(const PointGuide& g) {
-  return g.object >= kPointStatic && g.normal != 0 && g.albedo != 0;
-}
 
 }  // namespace
 
@@ -35,7 +31,7 @@ void denoise_image(DisplayImage& img, const std::vector<PointGuide>& guides, int
   b.normal.resize(n);
   b.albedo.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const bool s = surface(guides[i]);
+    const bool s = guided_surface(guides[i]);
     b.normal[i] = s ? unpack_normal(guides[i].normal) : Vec3(0.0f);
     Vec3 a = s ? unpack_albedo(guides[i].albedo) : Vec3(1.0f);
     for (int c = 0; c < 3; ++c) a[c] = a[c] > 0.02f ? a[c] : 1.0f;  // nothing to divide out
@@ -54,7 +50,7 @@ void denoise_image(DisplayImage& img, const std::vector<PointGuide>& guides, int
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       float f = kInfinity;
-      bool interior = surface(guides[i]);
+      bool interior = guided_surface(guides[i]);
       const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
       for (int k = 0; k < 4 && interior; ++k) {
         const int qx = x + dx[k], qy = y + dy[k];
@@ -62,7 +58,7 @@ void denoise_image(DisplayImage& img, const std::vector<PointGuide>& guides, int
         const PointGuide& q = guides[size_t(qy) * size_t(w) + size_t(qx)];
         const Vec3 d = q.p - guides[i].p;
         const float len = glm::length(d);
-        if (!surface(q) || glm::dot(b.normal[i], unpack_normal(q.normal)) < 0.95f ||
+        if (!guided_surface(q) || glm::dot(b.normal[i], unpack_normal(q.normal)) < 0.95f ||
             std::abs(glm::dot(b.normal[i], d)) > 0.25f * len)
           interior = false;
         else
@@ -77,7 +73,7 @@ void denoise_image(DisplayImage& img, const std::vector<PointGuide>& guides, int
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * size_t(w) + size_t(x);
         const float* ci = &(*in)[3 * i];
-        if (!surface(guides[i]) || b.footprint[i] <= 0.0f) {
+        if (!guided_surface(guides[i]) || b.footprint[i] <= 0.0f) {
           for (int c = 0; c < 3; ++c) (*out)[3 * i + c] = ci[c];
           b.var2[i] = b.var[i];
           continue;

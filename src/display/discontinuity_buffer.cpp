@@ -10,8 +10,6 @@ namespace {
 constexpr float kMinNormalDot = 0.9f;  // about 25 degrees
 constexpr float kMaxPlaneSlope = 0.1f;  // |n . d| / |d|: about 6 degrees off the tangent plane
 
-inline bool surface(const PointGuide& g) { return g.object >= kPointStatic && g.normal != 0 && g.albedo != 0; }
-
 // The albedo divided out, with dark channels left alone (nothing to divide out of them).
 inline Vec3 divisor(const PointGuide& g) {
   Vec3 a = unpack_albedo(g.albedo);
@@ -30,7 +28,7 @@ inline bool same_plane(const Vec3& na, const Vec3& pa, const Vec3& nb, const Vec
 }
 
 bool same_surface(const PointGuide& a, const PointGuide& b) {
-  if (!surface(a) || !surface(b)) return false;
+  if (!guided_surface(a) || !guided_surface(b)) return false;
   return same_plane(unpack_normal(a.normal), a.p, unpack_normal(b.normal), b.p);
 }
 
@@ -73,7 +71,7 @@ void filter_discontinuity(DisplayImage& img, const std::vector<PointGuide>& guid
   float* f[kFields];
   for (int k = 0; k < kFields; ++k) f[k] = b.fields.data() + size_t(k) * count;
   for (size_t i = 0; i < count; ++i) {
-    const bool s = surface(guides[i]);
+    const bool s = guided_surface(guides[i]);
     const Vec3 nn = s ? unpack_normal(guides[i].normal) : Vec3(0.0f);
     const Vec3 a = s ? divisor(guides[i]) : Vec3(1.0f);
     for (int c = 0; c < 3; ++c) {

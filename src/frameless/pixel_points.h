@@ -94,6 +94,11 @@ struct PointGuide {
   uint32_t albedo = 0;  // pack_albedo
 };
 
+// Pixels the guided filters work on: surfaces with a normal and an albedo (not the sky, not emitters).
+inline bool guided_surface(const PointGuide& g) {
+  return g.object >= kPointStatic && g.normal != 0 && g.albedo != 0;
+}
+
 // Display thread: the pixel's newest guides, whole, under the point's sequence lock.
 inline bool read_guide(const PixelPoint& slot, PointGuide& out, int max_tries = 16) {
   return read_locked(slot.seq, [&] {

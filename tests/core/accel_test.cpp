@@ -58,7 +58,7 @@ float hit_distance(const Geometry& g, const Ray& ray, uint32_t prim) {
   return th;
 }
 
-Ray random_ray(Rng& rng) {
+Ray random_ray(TestRng& rng) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Ray r;
   r.org = uniform_vec(rng, -1.5f, 1.5f);
@@ -83,7 +83,7 @@ Ray random_ray(Rng& rng) {
 void expect_matches_brute_force(Geometry g, uint32_t seed, int rays, const AccelConfig& cfg = {}) {
   Accel accel;
   accel.build(g, cfg);
-  Rng rng(seed);
+  TestRng rng(seed);
   int hits = 0, occluded = 0, near_ties = 0;
   for (int i = 0; i < rays; ++i) {
     const Ray ray = random_ray(rng);
@@ -153,7 +153,7 @@ TEST(Accel, RebuildSeesMovedVertices) {
   accel.build(g);
   for (Vec3& p : g.positions) p = Vec3(p.z, p.x + 0.25f, p.y - 0.5f);
   accel.build(g);
-  Rng rng(22);
+  TestRng rng(22);
   int hits = 0;
   for (int i = 0; i < 20000; ++i) {
     const Ray ray = random_ray(rng);
@@ -271,7 +271,7 @@ TEST(Accel, ParallelAndSerialBuildsAreIdentical) {
   EXPECT_EQ(serial.stats().nodes, parallel.stats().nodes);
   EXPECT_EQ(a.triangles, b.triangles);
   EXPECT_EQ(a.spheres.size(), b.spheres.size());
-  Rng rng(18);
+  TestRng rng(18);
   for (int i = 0; i < 2000; ++i) {
     const Ray r = random_ray(rng);
     Hit ha, hb;

@@ -35,7 +35,7 @@ constexpr int kRays = 100;
 constexpr int kRays = 1000;
 #endif
 
-using Rng = std::mt19937;
+using TestRng = std::mt19937;
 
 // A real executor: `threads` std::threads per call, dynamic order.
 AccelConfig threaded(int threads) {
@@ -61,7 +61,7 @@ AccelConfig reversed() {
   return cfg;
 }
 
-Vec3 uniform_vec(Rng& rng, float lo, float hi) {
+Vec3 uniform_vec(TestRng& rng, float lo, float hi) {
   std::uniform_real_distribution<float> d(lo, hi);
   return {d(rng), d(rng), d(rng)};
 }
@@ -76,7 +76,7 @@ void add_triangle(Geometry& g, Vec3 a, Vec3 b, Vec3 c) {
 // A wavy height field of nx x nz quads (a coherent mesh, as models are) over [-1, 1]^2, plus a
 // soup of random triangles, some degenerate, and a stack sharing one centroid (median fallback).
 Geometry mesh(uint32_t seed, int nx, int nz, int soup) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   auto height = [](float x, float z) { return 0.2f * std::sin(7.0f * x) * std::cos(5.0f * z); };
   for (int i = 0; i <= nx; ++i)
@@ -109,7 +109,7 @@ Geometry mesh(uint32_t seed, int nx, int nz, int soup) {
 }
 
 void add_spheres(Geometry& g, uint32_t seed, int n) {
-  Rng rng(seed);
+  TestRng rng(seed);
   std::uniform_real_distribution<float> radius(0.001f, 0.05f);
   for (int i = 0; i < n; ++i) {
     g.spheres.push_back({uniform_vec(rng, -1.0f, 1.0f), radius(rng)});
@@ -262,7 +262,7 @@ void expect_queries_match(Geometry g, uint32_t seed) {
     ASSERT_EQ(s.spheres[i].radius, p.spheres[i].radius);
   }
   EXPECT_EQ(s.sphere_material, p.sphere_material);
-  Rng rng(seed);
+  TestRng rng(seed);
   int hits = 0;
   for (int i = 0; i < kRays; ++i) {
     Ray ray;
@@ -407,7 +407,7 @@ TEST(BvhBuild, SmallBuildsNeedNoExecutor) {
   for (int n : {1, 2, 3, 8, 9, 17, 100, 5000}) {
     SCOPED_TRACE(n);
     Geometry g;
-    Rng rng{uint32_t(n)};
+    TestRng rng{uint32_t(n)};
     for (int i = 0; i < n; ++i) {
       const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
       add_triangle(g, c, c + Vec3(0.1f, 0.0f, 0.0f), c + Vec3(0.0f, 0.1f, 0.0f));

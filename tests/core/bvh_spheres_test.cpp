@@ -34,7 +34,7 @@ constexpr int kRayDivisor = 10;
 constexpr int kRayDivisor = 1;
 #endif
 
-using Rng = std::mt19937;
+using TestRng = std::mt19937;
 
 // 16-bit fingerprint of a sphere: the material each sphere carries, so a test can tell whether
 // materials were permuted with their spheres.
@@ -55,13 +55,13 @@ struct SphereSet {
   }
 };
 
-Vec3 uniform_vec(Rng& rng, float lo, float hi) {
+Vec3 uniform_vec(TestRng& rng, float lo, float hi) {
   std::uniform_real_distribution<float> d(lo, hi);
   return {d(rng), d(rng), d(rng)};
 }
 
 SphereSet uniform_set(uint32_t seed, int n, float rmin = 0.01f, float rmax = 0.2f) {
-  Rng rng(seed);
+  TestRng rng(seed);
   SphereSet s;
   std::uniform_real_distribution<float> r(rmin, rmax);
   for (int i = 0; i < n; ++i) s.add(uniform_vec(rng, -1.0f, 1.0f), r(rng));
@@ -71,7 +71,7 @@ SphereSet uniform_set(uint32_t seed, int n, float rmin = 0.01f, float rmax = 0.2
 // The awkward sets: exact duplicates, shared centres, radii over ten decades, clusters far apart,
 // a line with exponentially growing gaps (unbalanced SAH splits), a plane, zero and negative radii.
 SphereSet awkward_set(uint32_t seed) {
-  Rng rng(seed);
+  TestRng rng(seed);
   SphereSet s = uniform_set(seed, 300);
   for (int i = 0; i < 60; ++i) s.add({0.25f, -0.5f, 0.125f}, 0.1f);  // duplicates
   for (int i = 0; i < 60; ++i) s.add({-0.5f, 0.5f, 0.5f}, 0.002f * float(i + 1));  // one centre
@@ -184,7 +184,7 @@ std::string check_structure(const Bvh8& bvh, const std::vector<Sphere>& spheres,
   return "";
 }
 
-Ray random_ray(Rng& rng, float extent) {
+Ray random_ray(TestRng& rng, float extent) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Ray r;
   r.org = uniform_vec(rng, -1.5f * extent, 1.5f * extent);
@@ -227,7 +227,7 @@ void expect_same_hits(SphereSet set, uint32_t seed, int rays, const AccelConfig&
   };
   ASSERT_EQ(sorted_bytes(before), sorted_bytes(set.spheres));
 
-  Rng rng(seed);
+  TestRng rng(seed);
   int hits = 0;
   for (int i = 0; i < rays; ++i) {
     const Ray ray = random_ray(rng, extent);
@@ -348,7 +348,7 @@ TEST(BvhSpheres, DepthStaysWithinTheStackOnAdversarialInput) {
   // level). Past level 32 the builder switches to medians, which halve: 34 levels.
   SphereSet s;
   for (int i = -126; i <= 126; ++i) s.add({std::ldexp(1.0f, i), 0.0f, 0.0f}, 0.0f);
-  std::shuffle(s.spheres.begin(), s.spheres.end(), Rng(5));
+  std::shuffle(s.spheres.begin(), s.spheres.end(), TestRng(5));
   for (size_t i = 0; i < s.spheres.size(); ++i) s.materials[i] = fingerprint(s.spheres[i]);
   AccelConfig cfg;
   cfg.sah_bins = 2;
@@ -414,7 +414,7 @@ TEST(BvhSpheres, AccelOnSphereOnlyGeometryMatchesThisTree) {
   accel.build(g);
   const Bvh8 bvh = build_bvh8_spheres(set.spheres, set.materials, {});
   ASSERT_EQ(check_structure(bvh, set.spheres, 4), "");
-  Rng rng(101);
+  TestRng rng(101);
   int hits = 0;
   for (int i = 0; i < 20000 / kRayDivisor; ++i) {
     const Ray ray = random_ray(rng, 1.0f);

@@ -23,7 +23,7 @@ using test_util::kRays;
 using test_util::mixed_scene;
 using test_util::random_spheres;
 using test_util::random_triangles;
-using test_util::Rng;
+using test_util::TestRng;
 using test_util::stadium;
 using test_util::uniform_vec;
 
@@ -59,7 +59,7 @@ float hit_distance(const Geometry& g, const Ray& ray, uint32_t prim) {
   return th;
 }
 
-Ray random_ray(Rng& rng, float spread = 1.5f) {
+Ray random_ray(TestRng& rng, float spread = 1.5f) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Ray r;
   r.org = uniform_vec(rng, -spread, spread);
@@ -131,7 +131,7 @@ void expect_same_hits(Geometry g, uint32_t seed, int rays, const GridConfig& cfg
   accel.build(g);
   GridAccel grid;
   grid.build(g, cfg);
-  Rng rng(seed);
+  TestRng rng(seed);
   Tally tally;
   for (int i = 0; i < rays; ++i) {
     SCOPED_TRACE(::testing::Message() << "ray " << i);
@@ -179,7 +179,7 @@ TEST(GridAccel, SinglePrimitives) {
   add_triangle(t, {-1e4f, -1e4f, 3}, {1e4f, -1e4f, 3}, {0, 1e4f, 3});
   Tally tally;
   grid.build(t);
-  Rng rng(1);
+  TestRng rng(1);
   for (int i = 0; i < 2000; ++i) check_ray(t, grid, nullptr, random_ray(rng, 10.0f), tally);
   EXPECT_GT(tally.hits, 100);
 }
@@ -223,7 +223,7 @@ TEST(GridAccel, DenseClusterUsesCellBvhs) {
   Geometry h = g;
   accel.build(h);
   grid.build(h);
-  Rng rng(20);
+  TestRng rng(20);
   Tally tally;
   for (int i = 0; i < kRays / 20; ++i) {
     Ray r;
@@ -240,7 +240,7 @@ TEST(GridAccel, AxisParallelRaysAndRaysStartingInside) {
   Geometry g = mixed_scene(10, 200);
   GridAccel grid;
   grid.build(g);
-  Rng rng(21);
+  TestRng rng(21);
   Tally tally;
   std::uniform_int_distribution<int> axis(0, 2);
   for (int i = 0; i < kRays / 4; ++i) {
@@ -270,7 +270,7 @@ TEST(GridAccel, AxisParallelRaysAndRaysStartingInside) {
 TEST(GridAccel, FlatSceneAndDistantOrigins) {
   // All triangles in one plane: one cell thick, the density goes to the other two axes.
   Geometry g;
-  Rng rng(22);
+  TestRng rng(22);
   for (int i = 0; i < 500; ++i) {
     const Vec3 c = uniform_vec(rng, -1, 1) * Vec3(1, 1, 0);
     add_triangle(g, c, c + Vec3(0.1f, 0, 0), c + Vec3(0, 0.1f, 0));
@@ -300,7 +300,7 @@ TEST(GridAccel, IgnoresNonFinitePrimitives) {
   grid.build(g);
   ref.build(finite);
   EXPECT_EQ(grid.stats().refs, ref.stats().refs);
-  Rng rng(26);
+  TestRng rng(26);
   for (int i = 0; i < kRays / 10; ++i) {
     const Ray r = random_ray(rng);
     Hit a, b;
@@ -316,7 +316,7 @@ TEST(GridAccel, IgnoresNonFinitePrimitives) {
 
 TEST(GridAccel, MatchesWithSplinePatches) {
   Geometry g = mixed_scene(34, 100);
-  Rng rng(35);
+  TestRng rng(35);
   for (int i = 0; i < 12; ++i) {
     BezierPatch p;
     const Vec3 c = uniform_vec(rng, -0.8f, 0.8f);
@@ -355,7 +355,7 @@ TEST(GridAccel, CountsAreDeterministic) {
   GridAccel grid;
   grid.build(g);
   auto run = [&](TraversalCounts& c) {
-    Rng rng(29);
+    TestRng rng(29);
     for (int i = 0; i < 5000; ++i) {
       const Ray r = random_ray(rng);
       Hit h;

@@ -20,7 +20,7 @@ namespace {
 using test_util::append;
 using test_util::kRays;
 using test_util::mixed_scene;
-using test_util::Rng;
+using test_util::TestRng;
 using test_util::stadium;
 using test_util::uniform_vec;
 
@@ -77,7 +77,7 @@ TEST(GridAccel, VisitConeFindsEveryPrimitiveInTheCone) {
     cfg.bvh_threshold = threshold;
     GridAccel grid;
     grid.build(g, cfg);
-    Rng rng(33);
+    TestRng rng(33);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     size_t inside = 0, visited = 0, calls = 0;
     const int cones = kRays / 2000 + 10;  // 60 in Release

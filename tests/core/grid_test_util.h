@@ -17,9 +17,9 @@ inline constexpr int kRays = 10000;
 inline constexpr int kRays = 100000;
 #endif
 
-using Rng = std::mt19937;
+using TestRng = std::mt19937;
 
-inline Vec3 uniform_vec(Rng& rng, float lo, float hi) {
+inline Vec3 uniform_vec(TestRng& rng, float lo, float hi) {
   std::uniform_real_distribution<float> d(lo, hi);
   return {d(rng), d(rng), d(rng)};
 }
@@ -37,7 +37,7 @@ inline void add_sphere(Geometry& g, Vec3 c, float r) {
 }
 
 inline Geometry random_triangles(uint32_t seed, int n, bool degenerate, float max_size = 0.5f) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   std::uniform_real_distribution<float> size(0.02f, max_size);
   for (int i = 0; i < n; ++i) {
@@ -53,7 +53,7 @@ inline Geometry random_triangles(uint32_t seed, int n, bool degenerate, float ma
 }
 
 inline Geometry random_spheres(uint32_t seed, int n, float max_radius = 0.3f) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   std::uniform_real_distribution<float> radius(0.01f, max_radius);
   for (int i = 0; i < n; ++i) add_sphere(g, uniform_vec(rng, -1.0f, 1.0f), radius(rng));
@@ -84,7 +84,7 @@ inline Geometry mixed_scene(uint32_t seed, int n) {
 
 // A dense cluster of tiny triangles in a big, sparse scene ("teapot in a stadium").
 inline Geometry stadium(uint32_t seed, int cluster) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   for (int i = 0; i < cluster; ++i) {
     const Vec3 c = uniform_vec(rng, 0.2f, 0.3f);

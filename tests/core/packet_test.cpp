@@ -51,7 +51,7 @@ void expect_packet_matches(const Accel& accel, const Ray* rays, int n, Agreement
 }
 
 // Eight rays from one eye through a 4x2 block of pixels of a view of the unit cube.
-void camera_packet(Rng& rng, Ray* rays) {
+void camera_packet(TestRng& rng, Ray* rays) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const Vec3 eye(2.5f, 1.9f, 3.1f), fwd = glm::normalize(-eye);
   const Vec3 right = glm::normalize(glm::cross(fwd, Vec3(0, 1, 0))), up = glm::cross(right, fwd);
@@ -67,7 +67,7 @@ void camera_packet(Rng& rng, Ray* rays) {
 
 // Eight rays of one octant from anywhere in and around the scene: boxes entered from inside,
 // a loose interval bound, some lanes with zero direction components, some with short intervals.
-void scattered_packet(Rng& rng, Ray* rays) {
+void scattered_packet(TestRng& rng, Ray* rays) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const Vec3 sign(u(rng) < 0.5f ? -1.0f : 1.0f, u(rng) < 0.5f ? -1.0f : 1.0f,
                   u(rng) < 0.5f ? -1.0f : 1.0f);
@@ -90,7 +90,7 @@ void scattered_packet(Rng& rng, Ray* rays) {
 }
 
 void run_packets(const Accel& accel, uint32_t seed, Agreement& a) {
-  Rng rng(seed);
+  TestRng rng(seed);
   std::uniform_int_distribution<int> fill(1, kPacketSize);
   Ray rays[kPacketSize];
   for (int p = 0; p < kPackets; ++p) {
@@ -143,7 +143,7 @@ TEST(Packet, ExactTiesResolveAlike) {
     }
   Accel accel;
   accel.build(g);
-  Rng rng(8);
+  TestRng rng(8);
   Ray rays[kPacketSize];
   Agreement a;
   for (int p = 0; p < kPackets / 10; ++p) {

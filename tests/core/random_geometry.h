@@ -6,9 +6,9 @@
 
 namespace frameless {
 
-using Rng = std::mt19937;
+using TestRng = std::mt19937;
 
-inline Vec3 uniform_vec(Rng& rng, float lo, float hi) {
+inline Vec3 uniform_vec(TestRng& rng, float lo, float hi) {
   std::uniform_real_distribution<float> d(lo, hi);
   return {d(rng), d(rng), d(rng)};
 }
@@ -26,7 +26,7 @@ inline void add_sphere(Geometry& g, Vec3 c, float r) {
 }
 
 inline Geometry random_triangles(uint32_t seed, int n, bool degenerate) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   std::uniform_real_distribution<float> size(0.02f, 0.5f);
   for (int i = 0; i < n; ++i) {
@@ -42,7 +42,7 @@ inline Geometry random_triangles(uint32_t seed, int n, bool degenerate) {
 }
 
 inline Geometry random_spheres(uint32_t seed, int n) {
-  Rng rng(seed);
+  TestRng rng(seed);
   Geometry g;
   std::uniform_real_distribution<float> radius(0.01f, 0.3f);
   for (int i = 0; i < n; ++i) add_sphere(g, uniform_vec(rng, -1.0f, 1.0f), radius(rng));

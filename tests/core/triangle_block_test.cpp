@@ -23,7 +23,7 @@ uint32_t bits(float f) {
 }
 
 // n triangles of size about 0.6 around random centres in [-1, 1]^3 (they overlap: rays meet several).
-std::vector<LeafTriangle> overlapping_triangles(Rng& rng, int n) {
+std::vector<LeafTriangle> overlapping_triangles(TestRng& rng, int n) {
   std::vector<LeafTriangle> tris(static_cast<size_t>(n));
   for (LeafTriangle& t : tris) {
     const Vec3 c = uniform_vec(rng, -1.0f, 1.0f);
@@ -71,7 +71,7 @@ uint32_t expect_lanes_match(const EightSingles& s, const Ray& ray, float tmin, f
 }
 
 TEST(TriangleBlock, EveryLaneAnswersAsTheScalarTestOnRandomRays) {
-  Rng rng(41);
+  TestRng rng(41);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   int hits = 0;
   for (int round = 0; round < 2000; ++round) {
@@ -93,7 +93,7 @@ TEST(TriangleBlock, EveryLaneAnswersAsTheScalarTestOnRandomRays) {
 // A leaf's one to four triangles transposed into lanes answer as the scalar test, lane by lane;
 // the lanes past the leaf are never reported.
 TEST(TriangleBlock, LeafLanesAnswerAsTheScalarTest) {
-  Rng rng(43);
+  TestRng rng(43);
   int hits = 0;
   for (int round = 0; round < 8000; ++round) {
     const std::vector<LeafTriangle> tris = overlapping_triangles(rng, 4);
@@ -194,7 +194,7 @@ TEST(TriangleBlock, AccelWithBlocksMatchesBruteForce) {
   Accel accel;
   accel.build(g);
   EXPECT_GE(accel.stats().bytes, g.num_triangles() * sizeof(LeafTriangle) + sizeof(TriangleBlock));
-  Rng rng(78);
+  TestRng rng(78);
   int hits = 0;
   for (int i = 0; i < 20000; ++i) {
     Ray ray;

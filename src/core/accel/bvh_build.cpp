@@ -24,11 +24,6 @@ namespace {
 
 using namespace bvh_split;
 
-// Above kParallelMin references the tree is built as a top part plus subtree tasks (whether or
-// not there is an executor, so the layout never depends on it); kMinTask is the smallest task
-// size limit.
-constexpr uint32_t kParallelMin = 65536;
-constexpr uint32_t kMinTask = 16384;
 
 static_assert(sizeof(PrimRef) == 32, "PrimRef must be lo, id, hi, pad");
 

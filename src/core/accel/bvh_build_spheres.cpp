@@ -89,12 +89,6 @@ class NodeArena {
 
 namespace {
 
-// Above kParallelMin spheres the tree is built as a top part plus subtree tasks (whether or not
-// there is an executor, so the layout never depends on it); kMinTask is the smallest task size
-// limit.
-constexpr uint32_t kParallelMin = 65536;
-constexpr uint32_t kMinTask = 16384;
-
 // Builds subtrees into node arenas.
 template <class Prims>
 class Builder {

@@ -18,9 +18,9 @@ namespace frameless {
 namespace {
 
 // Ize 2013 as in accel.cpp: exit distances widened so the slab test is conservative.
-constexpr float kRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
+constexpr float kCellRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
 constexpr uint32_t kMailbox = 32;  // direct-mapped, per ray: catches primitives in adjacent cells
-constexpr int kStackSize = 80;     // cell BVHs: SAH to depth 32, then medians (<= 32 more)
+constexpr int kCellStackSize = 80;     // cell BVHs: SAH to depth 32, then medians (<= 32 more)
 
 // The one place a primitive id becomes an intersection test (closest hit, or any hit when
 // kAnyHit): triangles, spheres, then spline patches (ids from first_patch(), each walking its own
@@ -45,17 +45,17 @@ inline bool intersect_primitive(const Geometry& g, uint32_t id, const Ray& ray,
 }
 
 // Per-ray constants of the slab test (1 / dir is infinite for zero components).
-struct BoxRay {
+struct CellRay {
   Vec3 org, inv, inv_far;
   bool neg[3];
 };
 
-inline BoxRay make_box_ray(const Ray& ray) {
-  BoxRay b;
+inline CellRay make_cell_ray(const Ray& ray) {
+  CellRay b;
   b.org = ray.org;
   for (int a = 0; a < 3; ++a) {
     b.inv[a] = 1.0f / ray.dir[a];
-    b.inv_far[a] = b.inv[a] * kRobustFar;
+    b.inv_far[a] = b.inv[a] * kCellRobustFar;
     b.neg[a] = std::signbit(ray.dir[a]);
   }
   return b;
@@ -63,7 +63,7 @@ inline BoxRay make_box_ray(const Ray& ray) {
 
 // Entry distance into [lo, hi] within [tmin, tmax], or false. A slab whose boundary holds the
 // origin of a parallel ray gives NaN, which the comparisons ignore (the boundary counts inside).
-inline bool slab_test(const Vec3& lo, const Vec3& hi, const BoxRay& r, float tmin, float tmax,
+inline bool slab_test(const Vec3& lo, const Vec3& hi, const CellRay& r, float tmin, float tmax,
                       float& t_enter) {
   float tn = tmin, tf = tmax;
   for (int a = 0; a < 3; ++a) {
@@ -81,7 +81,7 @@ template <bool kAnyHit>
 struct Walk {
   const Geometry& g;
   const Ray& ray;
-  const BoxRay br;
+  const CellRay br;
   const TriangleRay tr;
   float tmax;
   Hit& hit;
@@ -92,7 +92,7 @@ struct Walk {
   Walk(const Geometry& geom, const Ray& r, Hit& h)
       : g(geom),
         ray(r),
-        br(make_box_ray(r)),
+        br(make_cell_ray(r)),
         // Sphere-only scenes skip the shear set-up and its divisions.
         tr(geom.num_triangles() ? make_triangle_ray(r) : TriangleRay{}),
         tmax(r.tmax),
@@ -120,10 +120,10 @@ struct Walk {
     struct Entry {
       uint32_t node;
       float t;
-    } stack[kStackSize];
+    } stack[kCellStackSize];
     int sp = 0;
     float t_root;
-    if (!slab_test(node_array[root].lo, node_array[root].hi, br, ray.tmin, tmax * kRobustFar,
+    if (!slab_test(node_array[root].lo, node_array[root].hi, br, ray.tmin, tmax * kCellRobustFar,
                    t_root))
       return false;
     uint32_t i = root;
@@ -135,7 +135,7 @@ struct Walk {
           if (test(ids[n.index + k])) return true;
       } else {
         const uint32_t l = i + 1, r = n.index;
-        const float tmax_box = tmax * kRobustFar;
+        const float tmax_box = tmax * kCellRobustFar;
         float tl, tr_;
         const bool hl = slab_test(node_array[l].lo, node_array[l].hi, br, ray.tmin, tmax_box, tl);
         const bool hr = slab_test(node_array[r].lo, node_array[r].hi, br, ray.tmin, tmax_box, tr_);
@@ -155,7 +155,7 @@ struct Walk {
       for (;;) {
         if (sp == 0) return false;
         const Entry& e = stack[--sp];
-        if (e.t <= tmax * kRobustFar) {
+        if (e.t <= tmax * kCellRobustFar) {
           i = e.node;
           break;
         }
@@ -172,7 +172,7 @@ bool GridAccel::traverse(const Ray& ray, Hit& hit, TraversalCounts* counts) cons
   if (!is_finite(ray.org) || !is_finite(ray.dir) || !(ray.tmin <= ray.tmax)) return false;
   Walk<kAnyHit> w(*geom_, ray, hit);
   // Clip the ray to the grid box.
-  float t0 = ray.tmin, t1 = ray.tmax * kRobustFar;
+  float t0 = ray.tmin, t1 = ray.tmax * kCellRobustFar;
   if (!slab_test(lo_, hi_, w.br, t0, t1, t0)) return false;
 
   // DDA set-up. An axis along which the ray crosses no cell boundary at any finite distance (zero
@@ -207,7 +207,7 @@ bool GridAccel::traverse(const Ray& ray, Hit& hit, TraversalCounts* counts) cons
   // The axis loop is unrolled so that indices and distances stay in registers.
   auto advance = [&](auto axis, float& n) {
     constexpr int a = decltype(axis)::value;
-    if (!(n <= std::min(t1, w.tmax * kRobustFar)) || step[a] == 0) return false;
+    if (!(n <= std::min(t1, w.tmax * kCellRobustFar)) || step[a] == 0) return false;
     idx[a] += step[a];
     if (uint32_t(idx[a]) >= uint32_t(res_[a])) return false;
     c += uint32_t(stride[a]);
@@ -252,7 +252,7 @@ namespace {
 
 // Accel's cone test (accel.cpp, cone_children) on one box: the box grown by the cone's radius at
 // its far end along the axis must be entered by the axis ray within [0, tmax].
-inline bool cone_meets_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const BoxRay& r,
+inline bool cone_meets_box(const Vec3& lo, const Vec3& hi, const Ray& ray, const CellRay& r,
                            float tan_half, float tmax) {
   float far_t = 0.0f;  // largest depth along the axis of any box corner
   for (int a = 0; a < 3; ++a)
@@ -269,8 +269,8 @@ bool GridAccel::visit_cone(const Ray& ray, float tan_half, Accel::ConeVisitor& v
   if (offsets_.empty() || !is_finite(ray.org) || !is_finite(ray.dir)) return true;
   const Vec3 &o = ray.org, &d = ray.dir;
   const float th = tan_half > 0.0f ? tan_half : 0.0f;
-  const BoxRay br = make_box_ray(ray);
-  const float tmax = ray.tmax * kRobustFar;
+  const CellRay br = make_cell_ray(ray);
+  const float tmax = ray.tmax * kCellRobustFar;
   // Nothing in the grid lies deeper along the axis than its deepest corner.
   float deepest = 0.0f;
   for (int a = 0; a < 3; ++a) deepest += std::max((lo_[a] - o[a]) * d[a], (hi_[a] - o[a]) * d[a]);
@@ -328,7 +328,7 @@ bool GridAccel::visit_cone(const Ray& ray, float tan_half, Accel::ConeVisitor& v
             continue;
           }
           // Crowded cell: prune its BVH with the same test.
-          uint32_t stack[kStackSize];
+          uint32_t stack[kCellStackSize];
           int sp = 0;
           stack[sp++] = ids_[b];
           while (sp > 0) {

@@ -22,6 +22,8 @@ inline Error fail(const std::string& path, const std::string& what) {
   return Error{path + ": " + what};
 }
 
+inline std::string str(long long i) { return std::to_string(i); }
+
 // What gltf_check found safe to hand to tinygltf: the container kind and the buffer files
 // tinygltf may read (its own spelling of the path, and the file we read for it).
 struct Checked {

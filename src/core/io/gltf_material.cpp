@@ -30,8 +30,6 @@
 namespace frameless::gltf {
 namespace {
 
-std::string str(long long i) { return std::to_string(i); }
-
 float phong_exponent(double roughness) {
   const double r = std::max(roughness, 1e-3);
   return float(std::clamp(2.0 / (r * r * r * r) - 2.0, 1.0, 10000.0));

@@ -36,7 +36,7 @@ constexpr uint64_t kMaxTextureSide = 8192;  // for the message only
 static_assert(kMaxTextureSide * kMaxTextureSide == kMaxTexturePixels);
 
 // Library messages may carry newlines or trailing dots; errors stay on one line.
-Error fail(const std::string& path, std::string what) {
+Error library_error(const std::string& path, std::string what) {
   for (char& c : what)
     if (c == '\n' || c == '\r' || c == '\t') c = ' ';
   while (!what.empty() && (what.back() == ' ' || what.back() == '.')) what.pop_back();
@@ -51,9 +51,9 @@ bool size_ok(uint64_t w, uint64_t h) {
 
 Error size_error(const std::string& path, int64_t w, int64_t h) {
   const std::string dims = std::to_string(w) + "x" + std::to_string(h);
-  if (w <= 0 || h <= 0) return fail(path, "image is " + dims + ", which has no pixels");
+  if (w <= 0 || h <= 0) return library_error(path, "image is " + dims + ", which has no pixels");
   const std::string side = std::to_string(kMaxTextureSide);
-  return fail(path, "image is " + dims + ", larger than the " + side + "x" + side +
+  return library_error(path, "image is " + dims + ", larger than the " + side + "x" + side +
                         " texture limit");
 }
 
@@ -147,7 +147,7 @@ Result<std::shared_ptr<const Image>> decode_png(const std::string& bytes, const 
   if (job.png) job.info = png_create_info_struct(job.png);
   if (!job.png || !job.info) {
     png_destroy_read_struct(job.png ? &job.png : nullptr, nullptr, nullptr);
-    return fail(path, "out of memory");
+    return library_error(path, "out of memory");
   }
   bool ok = false;
   try {
@@ -157,7 +157,7 @@ Result<std::shared_ptr<const Image>> decode_png(const std::string& bytes, const 
   }
   png_destroy_read_struct(&job.png, &job.info, nullptr);
   if (job.too_large) return size_error(path, image->width, image->height);
-  if (!ok) return fail(path, std::string("invalid PNG: ") + job.message);
+  if (!ok) return library_error(path, std::string("invalid PNG: ") + job.message);
   return std::shared_ptr<const Image>(std::move(image));
 }
 
@@ -267,7 +267,7 @@ Result<std::shared_ptr<const Image>> decode_jpeg(const std::string& bytes,
   }
   if (job.created) jpeg_destroy_decompress(&job.cinfo);
   if (job.too_large) return size_error(path, image->width, image->height);
-  if (!ok) return fail(path, std::string("invalid JPEG: ") + job.err.message);
+  if (!ok) return library_error(path, std::string("invalid JPEG: ") + job.err.message);
   return std::shared_ptr<const Image>(std::move(image));
 }
 
@@ -280,7 +280,7 @@ Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const 
     ExrMemoryStream stream(bytes, path);
     // Header first, alone: the size check must come before InputFile sizes its tables, and the
     // attributes' claimed sizes before OpenEXR allocates them.
-    if (const std::string p = exr_header_problem(bytes); !p.empty()) return fail(path, "invalid EXR: " + p);
+    if (const std::string p = exr_header_problem(bytes); !p.empty()) return library_error(path, "invalid EXR: " + p);
     Imf::Header header;
     int version = int(read_le32(bytes, 4));
     stream.seekg(8);
@@ -288,23 +288,23 @@ Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const 
     const Imath::Box2i dw = header.dataWindow();
     const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
     if (w <= 0 || h <= 0 || !size_ok(uint64_t(w), uint64_t(h))) return size_error(path, w, h);
-    if (const std::string p = exr_chunk_problem(header); !p.empty()) return fail(path, "invalid EXR: " + p);
+    if (const std::string p = exr_chunk_problem(header); !p.empty()) return library_error(path, "invalid EXR: " + p);
 
     stream.seekg(0);
     Imf::InputFile file(stream);
     const Imf::ChannelList& list = file.header().channels();
     const bool rgb = list.findChannel("R") || list.findChannel("G") || list.findChannel("B");
     const bool alpha = list.findChannel("A") != nullptr;
-    if (!rgb && !list.findChannel("Y")) return fail(path, "EXR has no R, G, B or Y channel");
+    if (!rgb && !list.findChannel("Y")) return library_error(path, "EXR has no R, G, B or Y channel");
     std::vector<const char*> names = rgb ? std::vector<const char*>{"R", "G", "B"}
                                          : std::vector<const char*>{"Y"};
     if (alpha) names.push_back("A");
     for (const char* name : names) {
       const Imf::Channel* c = list.findChannel(name);
       if (c && (c->xSampling != 1 || c->ySampling != 1))
-        return fail(path, std::string("EXR channel ") + name + " is subsampled (unsupported)");
+        return library_error(path, std::string("EXR channel ") + name + " is subsampled (unsupported)");
     }
-    if (!file.isComplete()) return fail(path, "EXR file is truncated");
+    if (!file.isComplete()) return library_error(path, "EXR file is truncated");
 
     const int n = int(names.size());
     image->width = int(w);
@@ -319,11 +319,11 @@ Result<std::shared_ptr<const Image>> decode_exr(const std::string& bytes, const 
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
   } catch (const std::bad_alloc&) {
-    return fail(path, "out of memory");
+    return library_error(path, "out of memory");
   } catch (const std::exception& e) {
-    return fail(path, std::string("invalid EXR: ") + e.what());
+    return library_error(path, std::string("invalid EXR: ") + e.what());
   } catch (...) {
-    return fail(path, "invalid EXR");
+    return library_error(path, "invalid EXR");
   }
   // Non-finite texels read as 0; huge ones are capped so that bilinear sums stay finite.
   constexpr float kCap = 1e30f;
@@ -339,15 +339,15 @@ bool starts_with(const std::string& b, const char* magic, size_t n) {
 
 Result<std::shared_ptr<const Image>> decode_image(const std::string& bytes,
                                                   const std::string& path) {
-  if (bytes.empty()) return fail(path, "file is empty");
+  if (bytes.empty()) return library_error(path, "file is empty");
   if (starts_with(bytes, "\x89PNG\r\n\x1a\n", 8)) return decode_png(bytes, path);
   if (starts_with(bytes, "\xff\xd8\xff", 3)) return decode_jpeg(bytes, path);
   if (starts_with(bytes, "\x76\x2f\x31\x01", 4)) {
-    if (bytes.size() < 8) return fail(path, "invalid EXR: file is truncated");
+    if (bytes.size() < 8) return library_error(path, "invalid EXR: file is truncated");
     return decode_exr(bytes, path);
   }
   if (looks_like_rgbe(bytes)) return decode_rgbe(bytes, path);
-  return fail(path, "unknown image format (expected PNG, JPEG, OpenEXR or Radiance HDR)");
+  return library_error(path, "unknown image format (expected PNG, JPEG, OpenEXR or Radiance HDR)");
 }
 
 Result<std::shared_ptr<const Image>> load_image(const std::string& path) {

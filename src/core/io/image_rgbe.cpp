@@ -8,15 +8,13 @@
 #include <cstring>
 #include <new>
 
+#include "core/io/file_util.h"
 #include "core/io/image_io.h"
 
 namespace frameless {
 namespace {
 
 constexpr size_t kMaxHeader = 1 << 16;  // a header longer than this has lost its blank line
-
-// Header text quoted in a message may hold line breaks: one_line() keeps the message on one line.
-Error fail(const std::string& path, const std::string& what) { return Error{one_line(path + ": " + what)}; }
 
 // One header line without its newline; false at the end of the bytes.
 bool next_line(const std::string& b, size_t& pos, std::string& line) {
@@ -87,7 +85,7 @@ bool looks_like_rgbe(const std::string& b) {
 }
 
 Result<std::shared_ptr<const Image>> decode_rgbe(const std::string& b, const std::string& path) {
-  if (!looks_like_rgbe(b)) return fail(path, "not a Radiance HDR file (no #?RADIANCE line)");
+  if (!looks_like_rgbe(b)) return file_error(path, "not a Radiance HDR file (no #?RADIANCE line)");
   size_t pos = 0;
   std::string line;
   double exposure = 1.0;
@@ -99,17 +97,17 @@ Result<std::shared_ptr<const Image>> decode_rgbe(const std::string& b, const std
       break;
     }
     if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe")
-      return fail(path, "unsupported Radiance pixel format '" + line.substr(7) + "' (expected 32-bit_rle_rgbe)");
+      return file_error(path, "unsupported Radiance pixel format '" + line.substr(7) + "' (expected 32-bit_rle_rgbe)");
     if (line.rfind("EXPOSURE=", 0) == 0) {
       char* end = nullptr;
       const double e = std::strtod(line.c_str() + 9, &end);
       if (end == line.c_str() + 9 || !std::isfinite(e) || e <= 0.0)
-        return fail(path, "EXPOSURE is not a positive number: '" + line.substr(9) + "'");
+        return file_error(path, "EXPOSURE is not a positive number: '" + line.substr(9) + "'");
       exposure *= e;  // pixels were multiplied by each exposure: divide them all out
     }
   }
-  if (!header_ended) return fail(path, "the Radiance header has no end (no blank line)");
-  if (!next_line(b, pos, line)) return fail(path, "the resolution line is missing");
+  if (!header_ended) return file_error(path, "the Radiance header has no end (no blank line)");
+  if (!next_line(b, pos, line)) return file_error(path, "the resolution line is missing");
   // "-Y height +X width" (top row first) or "+Y height +X width" (bottom row first).
   const char* s = line.c_str();
   long h = 0, w = 0;
@@ -117,13 +115,13 @@ Result<std::shared_ptr<const Image>> decode_rgbe(const std::string& b, const std
   const char* rest = s + 3;
   if ((!y_down && !y_up) || !parse_side(rest, &rest, h) || std::strncmp(rest, " +X ", 4) != 0 ||
       !parse_side(rest + 4, &rest, w) || *rest != '\0')
-    return fail(path, "unsupported resolution line '" + line + "' (expected -Y H +X W or +Y H +X W)");
+    return file_error(path, "unsupported resolution line '" + line + "' (expected -Y H +X W or +Y H +X W)");
   if (uint64_t(w) * uint64_t(h) > kMaxTexturePixels)
-    return fail(path, "image is " + std::to_string(w) + "x" + std::to_string(h) +
+    return file_error(path, "image is " + std::to_string(w) + "x" + std::to_string(h) +
                           ", larger than the 8192x8192 texture limit");
   // Every scanline takes at least 4 bytes: a shorter file cannot hold the image.
   if (b.size() - pos < uint64_t(h) * 4)
-    return fail(path, "the file is truncated (too short for " + std::to_string(w) + "x" + std::to_string(h) + ")");
+    return file_error(path, "the file is truncated (too short for " + std::to_string(w) + "x" + std::to_string(h) + ")");
   try {
     auto image = std::make_shared<Image>();
     image->path = path;
@@ -134,7 +132,7 @@ Result<std::shared_ptr<const Image>> decode_rgbe(const std::string& b, const std
     std::vector<uint8_t> rgbe(size_t(w) * 4);
     for (long y = 0; y < h; ++y) {
       if (const char* what = read_scanline(b, pos, int(w), rgbe.data()))
-        return fail(path, std::string(what) + " at scanline " + std::to_string(y));
+        return file_error(path, std::string(what) + " at scanline " + std::to_string(y));
       float* row = image->hdr.data() + size_t(y_down ? y : h - 1 - y) * size_t(w) * 3;
       for (long x = 0; x < w; ++x) {
         const uint8_t* p = rgbe.data() + 4 * x;
@@ -145,7 +143,7 @@ Result<std::shared_ptr<const Image>> decode_rgbe(const std::string& b, const std
     }
     return std::shared_ptr<const Image>(std::move(image));
   } catch (const std::bad_alloc&) {
-    return fail(path, "out of memory");
+    return file_error(path, "out of memory");
   }
 }
 

@@ -16,13 +16,13 @@ namespace frameless {
 namespace {
 
 using gltf::fail;
+using gltf::str;
 using tinygltf::Model;
 
 // Vertices and triangles stored per model (shared meshes once, however often they are placed):
 // a small file cannot ask for unbounded memory.
 constexpr size_t kMaxElements = size_t(1) << 27;
 
-std::string str(long long i) { return std::to_string(i); }
 
 // An accessor whose every element lies inside its buffer.
 struct View {

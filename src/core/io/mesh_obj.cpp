@@ -21,13 +21,6 @@ Error line_error(const std::string& path, size_t line, const std::string& what) 
   return Error{path + ":" + std::to_string(line) + ": " + what};
 }
 
-// Checks one numeric token of a v/vn/vt line. A leading '+' is accepted as in C's strtod.
-bool parse_finite(std::string_view tok, float& out) {
-  if (!tok.empty() && tok[0] == '+') tok.remove_prefix(1);
-  const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
-  return r.ec == std::errc() && r.ptr == tok.data() + tok.size() && std::isfinite(out);
-}
-
 // Resolves an OBJ index (1-based, or negative = relative to the count so far).
 bool check_index(std::string_view tok, long long defined, long long total) {
   if (tok.empty()) return false;
@@ -37,12 +30,6 @@ bool check_index(std::string_view tok, long long defined, long long total) {
   if (v > 0) return v <= total;
   if (v < 0) return -v <= defined;
   return false;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
 }
 
 // Appends the shortest text that reads back as x, so tinyobjloader parses only short numbers.

@@ -70,22 +70,10 @@ struct MtlMaterial {
   MtlMap map_kd, map_ks, map_d, bump, norm, map_ke;
 };
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
-
 std::string lower(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
   return out;
-}
-
-bool parse_finite(std::string_view tok, float& out) {
-  if (!tok.empty() && tok[0] == '+') tok.remove_prefix(1);
-  const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
-  return r.ec == std::errc() && r.ptr == tok.data() + tok.size() && std::isfinite(out);
 }
 
 // "'tok' is not ...", built by appending (g++ 12 warns falsely on "'" + std::string + "'").

@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/io/file_util.h"
 #include "core/io/volume_raw.h"
 
 namespace frameless {
@@ -26,7 +27,6 @@ namespace {
 constexpr size_t kMaxHeaderBytes = 1 << 20;  // a longer header has lost its blank line
 constexpr size_t kChunk = 1 << 16;
 
-Error fail(const std::string& path, const std::string& what) { return Error{one_line(path + ": " + what)}; }
 Error fail_at(const std::string& path, int line, const std::string& field, const std::string& what) {
   return Error{one_line(path + ":" + std::to_string(line) + ": " + field + ": " + what)};
 }
@@ -37,7 +37,7 @@ std::string quote(std::string_view s) {
   return out.append(s.substr(0, 60)).append(s.size() > 60 ? "...'" : "'");
 }
 
-std::string_view trim(std::string_view s) {
+std::string_view trim_blanks(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
   return s;
@@ -46,7 +46,7 @@ std::string_view trim(std::string_view s) {
 // Lower case with runs of blanks as one space: "Unsigned  Short" -> "unsigned short".
 std::string normalized(std::string_view s) {
   std::string out;
-  for (char c : trim(s)) {
+  for (char c : trim_blanks(s)) {
     if (c == ' ' || c == '\t') {
       if (!out.empty() && out.back() != ' ') out += ' ';
     } else {
@@ -58,24 +58,24 @@ std::string normalized(std::string_view s) {
 
 std::vector<std::string_view> words(std::string_view s) {
   std::vector<std::string_view> out;
-  s = trim(s);
+  s = trim_blanks(s);
   while (!s.empty()) {
     const size_t end = std::min(s.find_first_of(" \t"), s.size());
     out.push_back(s.substr(0, end));
-    s = trim(s.substr(end));
+    s = trim_blanks(s.substr(end));
   }
   return out;
 }
 
 bool parse_int(std::string_view s, int64_t& out) {
-  s = trim(s);
+  s = trim_blanks(s);
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
   return ec == std::errc() && end == s.data() + s.size() && !s.empty();
 }
 
 // A positive, finite number that stays so as a float (a spacing).
 bool parse_spacing(std::string_view s, double& out) {
-  s = trim(s);
+  s = trim_blanks(s);
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
   return ec == std::errc() && end == s.data() + s.size() && !s.empty() && std::isfinite(out) && float(out) > 0.0f &&
          std::isfinite(float(out));
@@ -84,7 +84,7 @@ bool parse_spacing(std::string_view s, double& out) {
 // Three vectors "(a,b,c)"; their lengths are the spacings.
 bool parse_space_directions(std::string_view s, Vec3& spacing) {
   int axis = 0;
-  for (s = trim(s); !s.empty(); s = trim(s), ++axis) {
+  for (s = trim_blanks(s); !s.empty(); s = trim_blanks(s), ++axis) {
     const size_t close = s.find(')');
     if (axis == 3 || s.front() != '(' || close == std::string_view::npos) return false;
     std::string_view inner = s.substr(1, close - 1);
@@ -93,7 +93,7 @@ bool parse_space_directions(std::string_view s, Vec3& spacing) {
     for (int c = 0; c < 3; ++c) {
       const size_t comma = c < 2 ? inner.find(',') : inner.size();
       if (comma == std::string_view::npos) return false;
-      const std::string_view num = trim(inner.substr(0, comma));
+      const std::string_view num = trim_blanks(inner.substr(0, comma));
       double v = 0.0;
       const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
       if (ec != std::errc() || end != num.data() + num.size() || num.empty() || !std::isfinite(v)) return false;
@@ -205,7 +205,7 @@ std::string read_field(NrrdHeader& h, const std::string& field, std::string_view
     if (!parse_space_directions(value, h.spacing))
       return "expected 3 vectors (a,b,c) of positive length, not " + quote(value);
   } else if (field == "data file") {
-    const std::string_view name = trim(value);
+    const std::string_view name = trim_blanks(value);
     const auto w = words(name);
     if (name.empty()) return "no file name";
     if (w[0] == "LIST") return "LIST data files (one file per slice) are not supported";
@@ -231,7 +231,7 @@ Result<NrrdHeader> parse_header(const std::string& bytes, const std::string& pat
   for (int line_no = 1; pos < bytes.size(); ++line_no) {
     const size_t newline = bytes.find('\n', pos);
     const size_t end = newline == std::string::npos ? bytes.size() : newline;
-    if (end > kMaxHeaderBytes) return fail(path, "the header is longer than 1 MiB (is its blank line missing?)");
+    if (end > kMaxHeaderBytes) return file_error(path, "the header is longer than 1 MiB (is its blank line missing?)");
     std::string_view line(bytes.data() + pos, end - pos);
     pos = newline == std::string::npos ? bytes.size() : newline + 1;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -264,9 +264,9 @@ Result<NrrdHeader> parse_header(const std::string& bytes, const std::string& pat
       return fail_at(path, line_no, field, problem);
   }
   for (const char* field : {"type", "dimension", "sizes", "encoding"})
-    if (!h.line(field)) return fail(path, std::string(field) + ": missing field");
+    if (!h.line(field)) return file_error(path, std::string(field) + ": missing field");
   if (voxel_bytes(h.type) > 1 && !h.line("endian"))
-    return fail(path, std::string("endian: missing field (") + voxel_type_name(h.type) + " data needs a byte order)");
+    return file_error(path, std::string("endian: missing field (") + voxel_type_name(h.type) + " data needs a byte order)");
   if (h.line("spacings") && h.line("space directions")) {
     const bool later = h.line("spacings") > h.line("space directions");
     return fail_at(path, later ? h.line("spacings") : h.line("space directions"),
@@ -277,7 +277,7 @@ Result<NrrdHeader> parse_header(const std::string& bytes, const std::string& pat
   if (const std::string p = volume_size_problem(h.sizes[0], h.sizes[1], h.sizes[2], h.type); !p.empty())
     return fail_at(path, h.line("sizes"), "sizes", p);
   if (!h.ended && h.data_file.empty())
-    return fail(path, "the header has no blank line before its data and names no data file");
+    return file_error(path, "the header has no blank line before its data and names no data file");
   return h;
 }
 
@@ -426,27 +426,27 @@ Result<std::shared_ptr<const VolumeGrid>> load_voxels(const NrrdHeader& h, const
     if (h.gzip) {
       const std::string need = (h.byte_skip ? "byte skip + " : "") + std::string("sizes ") + h.dims() + " need";
       if (const std::string p = inflate_voxels(src, start, uint64_t(h.byte_skip), want, need, voxels); !p.empty())
-        return fail(what, p);
+        return file_error(what, p);
     } else {
       const uint64_t have = src.size() > start ? src.size() - start : 0;
       const uint64_t skip = h.byte_skip == -1 ? (have >= want ? have - want : 0) : uint64_t(h.byte_skip);
       if (skip > have || have - skip != want)
-        return fail(what, "sizes " + h.dims() + " need " + std::to_string(want) + " bytes of data, the data holds " +
+        return file_error(what, "sizes " + h.dims() + " need " + std::to_string(want) + " bytes of data, the data holds " +
                               (skip > have ? "none after its byte skip" : std::to_string(have - skip)));
       // Mapped voxels must lie aligned for their type (the grid reads them as such): else a copy.
       if (src.is_file() && !swap && (start + skip) % voxel_bytes(h.type) == 0) {
         auto mapped = map_file(src.path(), start + skip, want);
-        if (!mapped) return fail(path, mapped.error().message);
+        if (!mapped) return file_error(path, mapped.error().message);
         return one_line(make_volume_grid(int(h.sizes[0]), int(h.sizes[1]), int(h.sizes[2]), h.type, h.spacing,
                                          std::move(*mapped), path));
       }
       voxels.resize(size_t(want));  // no more than the source holds: its length was checked
       errno = 0;
       if (src.read(start + skip, voxels.data(), voxels.size()) != ptrdiff_t(want))
-        return fail(what, errno ? std::string("read error: ") + std::strerror(errno) : "the data ended early");
+        return file_error(what, errno ? std::string("read error: ") + std::strerror(errno) : "the data ended early");
     }
   } catch (const std::bad_alloc&) {
-    return fail(what, "out of memory for " + std::to_string(want) + " bytes of voxels");
+    return file_error(what, "out of memory for " + std::to_string(want) + " bytes of voxels");
   }
   if (swap) swap_voxel_bytes(voxels, h.type);
   return one_line(make_volume_grid(int(h.sizes[0]), int(h.sizes[1]), int(h.sizes[2]), h.type, h.spacing,
@@ -476,13 +476,13 @@ Result<std::shared_ptr<const VolumeGrid>> decode_nrrd(const std::string& bytes, 
 
 Result<std::shared_ptr<const VolumeGrid>> read_nrrd(const std::string& path) {
   DataSource file;
-  if (const std::string p = file.open(path); !p.empty()) return fail(path, p);
+  if (const std::string p = file.open(path); !p.empty()) return file_error(path, p);
   // Only the header is read here: the data may be gigabytes, mapped or streamed later.
   std::string header_bytes;
   std::vector<char> buf(kChunk);
   while (header_bytes.size() <= kMaxHeaderBytes) {
     const ptrdiff_t n = file.read(header_bytes.size(), buf.data(), buf.size());
-    if (n < 0) return fail(path, std::string("read error: ") + std::strerror(errno));
+    if (n < 0) return file_error(path, std::string("read error: ") + std::strerror(errno));
     if (n == 0) break;
     const size_t from = header_bytes.size() < 2 ? 0 : header_bytes.size() - 2;
     header_bytes.append(buf.data(), size_t(n));

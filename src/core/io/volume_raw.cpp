@@ -13,10 +13,10 @@
 #include <new>
 #include <utility>
 
+#include "core/io/file_util.h"
+
 namespace frameless {
 namespace {
-
-Error fail(const std::string& path, const std::string& what) { return Error{one_line(path + ": " + what)}; }
 
 std::string dims_text(const RawVolumeSpec& s) {
   return std::to_string(s.nx) + "x" + std::to_string(s.ny) + "x" + std::to_string(s.nz) + " " + voxel_type_name(s.type);
@@ -79,17 +79,17 @@ void swap_voxel_bytes(std::vector<uint8_t>& bytes, VoxelType type) {
 Result<std::shared_ptr<const VolumeGrid>> read_raw_volume(const std::string& path, const RawVolumeSpec& spec) {
   std::string problem;
   const uint64_t data = data_bytes(spec, problem);
-  if (!problem.empty()) return fail(path, problem);
+  if (!problem.empty()) return file_error(path, problem);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return fail(path, std::string("cannot open: ") + std::strerror(errno));
+  if (fd < 0) return file_error(path, std::string("cannot open: ") + std::strerror(errno));
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }
   } closer{fd};
   // Devices and pipes have no length to check: only regular files hold volumes.
   struct stat st {};
-  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return fail(path, "not a regular file");
-  if (const std::string p = length_problem(uint64_t(st.st_size), data, spec); !p.empty()) return fail(path, p);
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return file_error(path, "not a regular file");
+  if (const std::string p = length_problem(uint64_t(st.st_size), data, spec); !p.empty()) return file_error(path, p);
   // The grid reads voxels as their own type: a mapping must leave them aligned.
   if (!voxels_need_swap(spec.type, spec.big_endian) && spec.offset % voxel_bytes(spec.type) == 0) {
     auto mapped = map_file(path, spec.offset, data);
@@ -100,11 +100,11 @@ Result<std::shared_ptr<const VolumeGrid>> read_raw_volume(const std::string& pat
     std::vector<uint8_t> bytes(data);  // no more than the file holds: its length was checked
     errno = 0;
     if (!read_exact(fd, spec.offset, bytes))
-      return fail(path, errno ? std::string("read error: ") + std::strerror(errno) : "the file ended early");
+      return file_error(path, errno ? std::string("read error: ") + std::strerror(errno) : "the file ended early");
     if (voxels_need_swap(spec.type, spec.big_endian)) swap_voxel_bytes(bytes, spec.type);
     return make_grid(spec, owned_storage(std::move(bytes)), path);
   } catch (const std::bad_alloc&) {
-    return fail(path, "out of memory for " + std::to_string(data) + " bytes of voxels");
+    return file_error(path, "out of memory for " + std::to_string(data) + " bytes of voxels");
   }
 }
 
@@ -112,15 +112,15 @@ Result<std::shared_ptr<const VolumeGrid>> decode_raw_volume(const std::string& b
                                                             const std::string& path) {
   std::string problem;
   const uint64_t data = data_bytes(spec, problem);
-  if (!problem.empty()) return fail(path, problem);
-  if (const std::string p = length_problem(bytes.size(), data, spec); !p.empty()) return fail(path, p);
+  if (!problem.empty()) return file_error(path, problem);
+  if (const std::string p = length_problem(bytes.size(), data, spec); !p.empty()) return file_error(path, p);
   try {
     const auto* first = reinterpret_cast<const uint8_t*>(bytes.data()) + spec.offset;
     std::vector<uint8_t> voxels(first, first + data);
     if (voxels_need_swap(spec.type, spec.big_endian)) swap_voxel_bytes(voxels, spec.type);
     return make_grid(spec, owned_storage(std::move(voxels)), path);
   } catch (const std::bad_alloc&) {
-    return fail(path, "out of memory for " + std::to_string(data) + " bytes of voxels");
+    return file_error(path, "out of memory for " + std::to_string(data) + " bytes of voxels");
   }
 }
 
