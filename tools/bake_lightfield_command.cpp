@@ -74,7 +74,7 @@ int run_bake(const BakeArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool bake_lightfield_registered = register_command(
     "", "bake-lightfield", "Render a scene into a light slab (two-plane lightfield) file, placed by a scene's \"lightfield\" object",
     [](CLI::App& app) {
       auto a = std::make_shared<BakeArgs>();

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_ablation_registered = register_command(
     "bench", "ablation",
     "Each skip of the per-sample path (and variance tracking, adaptive sampling) off vs on: "
     "time saved and image unchanged",

@@ -7,7 +7,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_accel_registered = register_command(
     "bench", "accel",
     "BVH against the hybrid grid per scene: build time, memory, Mrays/s, and what auto chooses",
     [](CLI::App& app) {

@@ -7,7 +7,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_all_registered = register_command(
     "bench", "all", "Runs error, motion, latency, scaling and scale into one directory",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::AllOptions>();

@@ -7,7 +7,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_build_registered = register_command(
     "bench", "build",
     "BVH build time, serial and parallel, against Embree's with 1 and N threads", [](CLI::App& app) {
       auto a = std::make_shared<bench::BuildOptions>();

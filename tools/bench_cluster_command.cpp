@@ -10,7 +10,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_cluster_registered = register_command(
     "bench", "cluster",
     "Frameless across Open MPI ranks: updates/s, wire bytes, master CPU, RTT, latency, scaling",
     [](CLI::App& app) {

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_dynamic_registered = register_command(
     "bench", "dynamic",
     "Samples/s against the number of moving objects (tested per ray, outside the BVH)",
     [](CLI::App& app) {

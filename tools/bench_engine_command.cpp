@@ -9,7 +9,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_engine_registered = register_command(
     "bench", "engine", "Frameless vs conventional samples/s, display CPU, camera-change latency",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::EngineBenchOptions>();

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_error_registered = register_command(
     "bench", "error", "Static convergence: error of the displayed image vs time and samples",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::ErrorOptions>();

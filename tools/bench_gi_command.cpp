@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_gi_registered = register_command(
     "bench", "gi",
     "Light that bounces: path tracing's and igi's error vs wall time, beside Blender's Cycles when installed",
     [](CLI::App& app) {

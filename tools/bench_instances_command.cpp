@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_instances_registered = register_command(
     "bench", "instances",
     "cost of moving instances: copy, refit or rebuild of the top level, and the rays' speed after",
     [](CLI::App& app) {

@@ -9,7 +9,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_latency_registered = register_command(
     "bench", "latency", "Camera change -> 50/95/100% of pixels showing it, against the ideal",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::LatencyOptions>();

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_lightfield_registered = register_command(
     "bench", "lightfield",
     "A light slab against its model: bake time, memory, RMSE from novel viewpoints and the cost of a frame",
     [](CLI::App& app) {

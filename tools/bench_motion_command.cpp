@@ -10,7 +10,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_motion_registered = register_command(
     "bench", "motion",
     "Moving camera: error of every displayed image vs the converged image for that instant",
     [](CLI::App& app) {

@@ -9,7 +9,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_patches_registered = register_command(
     "bench", "patches",
     "Spline patches ray traced directly against the same patches tessellated, and Broyden's "
     "iteration counts",

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_rays_registered = register_command(
     "bench", "rays",
     "Primary- and shadow-ray throughput of the BVH (and of Embree when built with it)",
     [](CLI::App& app) {

@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_reproject_registered = register_command(
     "bench", "reproject",
     "The display's reprojection alone, per camera change, along its Hilbert curve, in the engine's slot order and in pixel order, with its phases",
     [](CLI::App& app) {

@@ -7,7 +7,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_scale_registered = register_command(
     "bench", "scale", "spheres:N up to 3.5e7: build time, memory, samples/s, sub-linear ray cost",
     [](CLI::App& app) {
       auto args = std::make_shared<bench::ScaleOptions>();

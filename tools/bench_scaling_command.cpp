@@ -9,7 +9,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_scaling_registered = register_command(
     "bench", "scaling",
     "Samples/s and Mrays/s vs threads, oversubscribed too; efficiency vs linear",
     [](CLI::App& app) {

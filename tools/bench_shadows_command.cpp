@@ -8,7 +8,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_shadows_registered = register_command(
     "bench", "shadows",
     "Cost and accuracy of hard, single-sample soft, area-sampled and transparent shadows, and of "
     "the hemisphere ambient",

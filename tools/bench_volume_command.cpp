@@ -7,7 +7,7 @@
 namespace frameless::cli {
 namespace {
 
-const bool registered = register_command(
+const bool bench_volume_registered = register_command(
     "bench", "volume",
     "Volumes: a Visible-Female-sized CT phantom loaded, as an isosurface, through the volume shader and by MIP",
     [](CLI::App& app) {

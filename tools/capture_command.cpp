@@ -135,7 +135,7 @@ int run(const CaptureArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool capture_registered = register_command(
     "", "capture",
     "Headless capture (OSMesa) of the frameless display over time: EXR sequence + manifest",
     [](CLI::App& app) {

@@ -99,7 +99,7 @@ int run_render(const RenderArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool render_registered = register_command(
     "", "render", "Render a scene once to an EXR (half RGB + Z + N + samples), optionally a PNG",
     [](CLI::App& app) {
       auto a = std::make_shared<RenderArgs>();

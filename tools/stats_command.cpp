@@ -361,7 +361,7 @@ int run_stats(const StatsArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool stats_registered = register_command(
     "", "stats", "Measure the pixel-update distribution (uniformity, structure, staleness, balance, coherence)",
     [](CLI::App& app) {
       auto a = std::make_shared<StatsArgs>();

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Builds and runs every test: Release suite, then ASan+UBSan (all but the concurrency suites),
-# then ThreadSanitizer (engine and exchange suites, then whole mpirun cluster jobs), then the
-# scene/mesh/wire parser fuzzer for a bounded time.
-# Usage: tools/test.sh [--quick | --cluster-tsan]   (--quick: Release suite only;
-#        --cluster-tsan: only whole mpirun jobs of a ThreadSanitizer build, about 5 minutes)
+# Builds and runs every test, each suite once, in the build whose checks fit it: ASan+UBSan for the
+# core, readers and display (memory, parsers, raw-pointer loops), ThreadSanitizer for the engine,
+# the render -> display -> consumer exchange, the API, the viewer's threads and whole mpirun
+# cluster jobs, and Release for the command line, the viewer (scripted times), the cluster, the
+# Python module and the installed API; then the scene/mesh/wire parser fuzzer for a bounded time.
+# Usage: tools/test.sh [--quick | --cluster-tsan]   (--quick: every suite in Release only;
+#        --cluster-tsan: only whole mpirun jobs of a ThreadSanitizer build)
 # Env: FRAMELESS_FUZZ_SECONDS (default 60), FRAMELESS_LONG_TESTS=1 for long stress runs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -15,15 +17,20 @@ cluster_tsan=0; [ "${1:-}" = "--cluster-tsan" ] && cluster_tsan=1
 
 start=$(date +%s)
 section() { printf '\n=== %s (at %ds) ===\n' "$*" $(($(date +%s) - start)); }
-# clang compiles this project in about half g++'s time (CI's 2 cores spend most of it compiling).
-clang=(-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang)
+# CI's 2 cores spend most of its time compiling: clang (about half g++'s time here) in unity
+# builds (a library's files compiled in batches: 6.5 instead of 10.7 minutes for the Release build).
+clang=(-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DCMAKE_UNITY_BUILD=ON)
+# The ThreadSanitizer build of the engine, exchange and API suites, the viewer's tests and the
+# command line (cluster jobs); the command line and benchmarks themselves unoptimized (compile time).
+tsan_build=(build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize
+            -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -DFRAMELESS_UNOPTIMIZED_DRIVERS=ON
+            "-DFRAMELESS_TEST_SUITES=engine;exchange;api;viewer")
 
 cluster_tsan_jobs() {
   # Whole cluster jobs (master + 2 clients) with the frameless binary under ThreadSanitizer:
   # wall-clock and deterministic captures and bench cluster. Open MPI and Mesa are not
   # instrumented; tests/tsan_mpi.supp silences reports from inside them only.
-  tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-    -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- frameless
+  tools/build.sh "${tsan_build[@]}" -- frameless
   local bin=build/tsan/tools/frameless out=build/tsan/cluster-jobs
   local tsan="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp"
   local mpi=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 600
@@ -48,28 +55,35 @@ if [ $cluster_tsan = 1 ]; then
   exit 0
 fi
 
-section "Release build and tests (clang: half g++'s compile time here; run.sh and benchmarks use g++ in build/release)"
-tools/build.sh build/test-release "${clang[@]}" -DFRAMELESS_TESTS=ON
-(cd build/test-release && ctest -j"$jobs" --output-on-failure)
-[ $quick = 1 ] && exit 0
+if [ $quick = 1 ]; then
+  section "Release build and every suite"
+  tools/build.sh build/test-release "${clang[@]}" -DFRAMELESS_TESTS=ON -DFRAMELESS_TEST_SUITES=
+  (cd build/test-release && ctest -j"$jobs" --output-on-failure)
+  exit 0
+fi
 
-section "ASan+UBSan build and tests (core, display, viewer, cli; the concurrency suites run under TSan)"
-# clang: a third less compile time than g++ here, and the same build links the parser fuzzer.
+section "Release build and tests (command line, viewer, cluster, Python module, installed API, docs)"
+# run.sh and the benchmarks use g++ in build/release; this is clang's.
+tools/build.sh build/test-release "${clang[@]}" -DFRAMELESS_TESTS=ON "-DFRAMELESS_TEST_SUITES=cli;viewer;cluster"
+(cd build/test-release && ctest -j"$jobs" --output-on-failure -L 'cli|viewer|cluster|python|install|docs')
+
+section "ASan+UBSan build and tests (core, readers, display)"
+# The same build links the parser fuzzer.
 tools/build.sh build/asan "${clang[@]}" \
   -DFRAMELESS_SANITIZE=address,undefined -DFRAMELESS_FUZZ=ON -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- core_tests reader_tests display_tests viewer_tests cli_tests frameless scene_fuzzer
+  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' "-DFRAMELESS_TEST_SUITES=core;readers;display" \
+  -- core_tests reader_tests display_tests scene_fuzzer
 (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0" \
-  ctest -j"$jobs" --output-on-failure -LE 'engine|exchange|fuzz|api|python|install' -E '_NOT_BUILT$')
+  ctest -j"$jobs" --output-on-failure -L 'core|readers|display')
 
 section "ThreadSanitizer build and tests (engine, render -> display -> consumer exchange, the API, the viewer's threads)"
-tools/build.sh build/tsan "${clang[@]}" -DFRAMELESS_SANITIZE=thread -DCMAKE_BUILD_TYPE=Sanitize \
-  -DCMAKE_CXX_FLAGS_SANITIZE='-O1 -g1' -- engine_tests exchange_tests api_tests viewer_tests frameless
+tools/build.sh "${tsan_build[@]}" -- engine_tests exchange_tests api_tests viewer_tests frameless
 # The API's captures draw through OSMesa, whose rasteriser threads are not instrumented: reports
 # from inside it (and Open MPI, and the viewer's Mesa GLX driver) are suppressed; our code's
 # accesses still report. The viewer's tests run one at a time (their screenshots are timed).
 (cd build/tsan && export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$root/tests/tsan_mpi.supp" &&
-  ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' -E '_NOT_BUILT$' &&
+  ctest -j"$jobs" --output-on-failure -L 'engine|exchange|api' &&
   ctest -j1 --output-on-failure -R 'Panels\.(ShowOver|SceneSettings|ErrorPlot)')
 
 section "ThreadSanitizer: whole cluster jobs under mpirun (master's communication thread, clients)"

@@ -80,7 +80,7 @@ int run(const ViewArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool view_registered = register_command(
     "", "view", "Interactive frameless viewer (GLFW window; Tab shows the panels, H the keys)",
     [](CLI::App& app) {
       auto a = std::make_shared<ViewArgs>();
