@@ -13,13 +13,9 @@
 #include "core/accel/bvh_node.h"
 #include "core/accel/triangle_block.h"
 #include "core/accel/grid_accel.h"
+#include "core/accel/robust_far.h"
 
 namespace frameless {
-
-// Ize 2013, "Robust BVH ray traversal": widening tfar by 1 + 2 gamma(3) makes the slab test
-// conservative under rounding, so a watertight triangle test is never culled by its box. We fold
-// the factor into 1 / dir for the exit planes, which costs one more rounding: gamma(4).
-inline constexpr float kRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
 
 // Levels are bounded by the builder (SAH to depth 32, then medians), each pushes at most 7.
 inline constexpr int kStackSize = 512;

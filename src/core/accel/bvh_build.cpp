@@ -24,7 +24,6 @@ namespace {
 
 using namespace bvh_split;
 
-
 static_assert(sizeof(PrimRef) == 32, "PrimRef must be lo, id, hi, pad");
 
 // The reference array as bvh_split::Splitter sees it.

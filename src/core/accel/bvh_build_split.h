@@ -39,11 +39,9 @@ static_assert(kSmallSplit <= kSmallPad, "small splits fit the key arrays");
 // bounds) in parallel chunks of kBinChunk.
 inline constexpr uint32_t kParallelBinMin = 1u << 17;
 inline constexpr uint32_t kBinChunk = 1u << 15;
-// Both builders: above kParallelMin primitives the tree is built as a top part plus subtree tasks
-// (whether or not there is an executor, so the layout never depends on it); kMinTask is the
-// smallest task size limit.
+// Both builders: a top part plus subtree tasks above kParallelMin primitives, executor or not.
 inline constexpr uint32_t kParallelMin = 65536;
-inline constexpr uint32_t kMinTask = 16384;
+inline constexpr uint32_t kMinTask = 16384;  // the smallest task size limit
 // Binning deals neighbours to kBinSets bin sets from kManyBinSets primitives on, to two from
 // kTwoBinSets on.
 inline constexpr int kBinSets = 8;

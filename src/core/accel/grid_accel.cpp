@@ -11,16 +11,15 @@
 #include <cfloat>
 #include <type_traits>
 
+#include "core/accel/robust_far.h"
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
 
 namespace frameless {
 namespace {
 
-// Ize 2013 as in accel.cpp: exit distances widened so the slab test is conservative.
-constexpr float kCellRobustFar = 1.0f + 2.0f * (4.0f * 0x1p-24f) / (1.0f - 4.0f * 0x1p-24f);
 constexpr uint32_t kMailbox = 32;  // direct-mapped, per ray: catches primitives in adjacent cells
-constexpr int kCellStackSize = 80;     // cell BVHs: SAH to depth 32, then medians (<= 32 more)
+constexpr int kCellStackSize = 80;  // cell BVHs: SAH to depth 32, then medians (<= 32 more)
 
 // The one place a primitive id becomes an intersection test (closest hit, or any hit when
 // kAnyHit): triangles, spheres, then spline patches (ids from first_patch(), each walking its own
@@ -55,7 +54,7 @@ inline CellRay make_cell_ray(const Ray& ray) {
   b.org = ray.org;
   for (int a = 0; a < 3; ++a) {
     b.inv[a] = 1.0f / ray.dir[a];
-    b.inv_far[a] = b.inv[a] * kCellRobustFar;
+    b.inv_far[a] = b.inv[a] * kRobustFar;
     b.neg[a] = std::signbit(ray.dir[a]);
   }
   return b;
@@ -123,7 +122,7 @@ struct Walk {
     } stack[kCellStackSize];
     int sp = 0;
     float t_root;
-    if (!slab_test(node_array[root].lo, node_array[root].hi, br, ray.tmin, tmax * kCellRobustFar,
+    if (!slab_test(node_array[root].lo, node_array[root].hi, br, ray.tmin, tmax * kRobustFar,
                    t_root))
       return false;
     uint32_t i = root;
@@ -135,7 +134,7 @@ struct Walk {
           if (test(ids[n.index + k])) return true;
       } else {
         const uint32_t l = i + 1, r = n.index;
-        const float tmax_box = tmax * kCellRobustFar;
+        const float tmax_box = tmax * kRobustFar;
         float tl, tr_;
         const bool hl = slab_test(node_array[l].lo, node_array[l].hi, br, ray.tmin, tmax_box, tl);
         const bool hr = slab_test(node_array[r].lo, node_array[r].hi, br, ray.tmin, tmax_box, tr_);
@@ -155,7 +154,7 @@ struct Walk {
       for (;;) {
         if (sp == 0) return false;
         const Entry& e = stack[--sp];
-        if (e.t <= tmax * kCellRobustFar) {
+        if (e.t <= tmax * kRobustFar) {
           i = e.node;
           break;
         }
@@ -172,7 +171,7 @@ bool GridAccel::traverse(const Ray& ray, Hit& hit, TraversalCounts* counts) cons
   if (!is_finite(ray.org) || !is_finite(ray.dir) || !(ray.tmin <= ray.tmax)) return false;
   Walk<kAnyHit> w(*geom_, ray, hit);
   // Clip the ray to the grid box.
-  float t0 = ray.tmin, t1 = ray.tmax * kCellRobustFar;
+  float t0 = ray.tmin, t1 = ray.tmax * kRobustFar;
   if (!slab_test(lo_, hi_, w.br, t0, t1, t0)) return false;
 
   // DDA set-up. An axis along which the ray crosses no cell boundary at any finite distance (zero
@@ -207,7 +206,7 @@ bool GridAccel::traverse(const Ray& ray, Hit& hit, TraversalCounts* counts) cons
   // The axis loop is unrolled so that indices and distances stay in registers.
   auto advance = [&](auto axis, float& n) {
     constexpr int a = decltype(axis)::value;
-    if (!(n <= std::min(t1, w.tmax * kCellRobustFar)) || step[a] == 0) return false;
+    if (!(n <= std::min(t1, w.tmax * kRobustFar)) || step[a] == 0) return false;
     idx[a] += step[a];
     if (uint32_t(idx[a]) >= uint32_t(res_[a])) return false;
     c += uint32_t(stride[a]);
@@ -270,7 +269,7 @@ bool GridAccel::visit_cone(const Ray& ray, float tan_half, Accel::ConeVisitor& v
   const Vec3 &o = ray.org, &d = ray.dir;
   const float th = tan_half > 0.0f ? tan_half : 0.0f;
   const CellRay br = make_cell_ray(ray);
-  const float tmax = ray.tmax * kCellRobustFar;
+  const float tmax = ray.tmax * kRobustFar;
   // Nothing in the grid lies deeper along the axis than its deepest corner.
   float deepest = 0.0f;
   for (int a = 0; a < 3; ++a) deepest += std::max((lo_[a] - o[a]) * d[a], (hi_[a] - o[a]) * d[a]);

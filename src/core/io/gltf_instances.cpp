@@ -19,7 +19,6 @@ using tinygltf::Model;
 // Placements by instances per model: each costs an Instance and a box in the top-level BVH.
 constexpr size_t kMaxInstances = size_t(1) << 20;
 
-
 Result<glm::dmat4> local_matrix(const Model& m, int n, const std::string& path) {
   const tinygltf::Node& node = m.nodes[size_t(n)];
   const std::string where = "node " + str(n) + ": ";

@@ -54,7 +54,7 @@ Error size_error(const std::string& path, int64_t w, int64_t h) {
   if (w <= 0 || h <= 0) return library_error(path, "image is " + dims + ", which has no pixels");
   const std::string side = std::to_string(kMaxTextureSide);
   return library_error(path, "image is " + dims + ", larger than the " + side + "x" + side +
-                        " texture limit");
+                                 " texture limit");
 }
 
 uint32_t read_be32(const std::string& b, size_t at) {
