@@ -19,14 +19,17 @@
 namespace frameless::bench {
 namespace {
 
-// Each pixel's point as a render thread leaves it: trace_sample's primary hit at the pixel centre.
-std::vector<ScenePoint> primary_points(const Scene& scene, const Camera& camera, int w, int h) {
-  std::vector<ScenePoint> points(size_t(w) * size_t(h));
+// Each pixel's point as a render thread leaves it (trace_sample's primary hit at the pixel
+// centre), held as the display holds moved content: relative to the camera.
+std::vector<ViewPoint> primary_points(const Scene& scene, const Camera& camera, int w, int h) {
+  std::vector<ViewPoint> points(size_t(w) * size_t(h));
   const CameraBasis b = make_camera_basis(camera, w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const SampleResult r = trace_sample(scene, b, float(x) + 0.5f, float(y) + 0.5f, uint64_t(y) * uint64_t(w) + uint64_t(x));
-      points[size_t(y) * size_t(w) + size_t(x)] = ScenePoint{r.position, r.object};
+      size_t pixel = 0;
+      const ViewPoint v = to_view(b, ScenePoint{r.position, r.object}, pixel);
+      if (view_kind(v.bits) != kViewNone) points[pixel] = v;
     }
   return points;
 }
@@ -39,10 +42,10 @@ struct Timing {
 
 // `changes` reprojections along the orbit, the image moved each time (as the display does).
 Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h,
-                    const uint32_t* pixel_of, const uint32_t* slot_of, std::vector<ScenePoint> points) {
+                    const uint32_t* pixel_of, const uint32_t* slot_of, std::vector<ViewPoint> points) {
   const size_t n = size_t(w) * size_t(h);
   std::vector<DisplayPixel> px(n), px_out(n);
-  std::vector<ScenePoint> points_out(n);
+  std::vector<ViewPoint> points_out(n);
   std::vector<uint8_t> marks(n, kMarkMoved), marks_out(n);
   // Epochs as a moving display shows them: each pixel the camera of its newest update, one of the
   // last dozen changes, at random from pixel to pixel (the threads' pixels are shuffled).
@@ -53,12 +56,13 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   Camera camera = start;
   ReprojectStats last;
   for (int k = 0; k < o.changes + 2; ++k) {  // two untimed: first touches of the scratch memory
+    const CameraBasis before = make_camera_basis(camera, w, h);
     camera = orbit_camera(camera, float(o.degrees / CameraControlConfig{}.orbit_deg_per_pixel), 0.0f);
     const SlotImage from{w, h, pixel_of, slot_of, px.data(), points.data(), marks.data(), nullptr};
     const SlotImage to{w, h, pixel_of, slot_of, px_out.data(), points_out.data(), marks_out.data(), nullptr};
     const auto t0 = std::chrono::steady_clock::now();
     census.clear();
-    const ReprojectStats st = r.run(make_camera_basis(camera, w, h), from, to, true, 3, &census);
+    const ReprojectStats st = r.run(before, make_camera_basis(camera, w, h), from, to, true, 3, &census);
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     last = st;
     if (k >= 2) {
@@ -94,7 +98,7 @@ int run_reproject(const ReprojectOptions& o) {
   const Partition part = make_partition(pc);
   // The display's places, and the engine's slot order with its inverse.
   const LayoutPtr layout = make_layout(std::make_shared<const std::vector<uint32_t>>(slot_order(part)), w, h);
-  const std::vector<ScenePoint> points = primary_points(*scene, scene->camera, w, h);
+  const std::vector<ViewPoint> points = primary_points(*scene, scene->camera, w, h);
   const bool all = o.order == "all";
   Timing curve, slots, pixels;
   if (all || o.order == "curve")

@@ -182,7 +182,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   }
   if (points.size() != img.pixels()) {  // just turned on, or cleared: nothing shown has a point yet
     reset_reprojection();
-    points.assign(img.pixels(), ScenePoint{});
+    points.assign(img.pixels(), ViewPoint{});
     marks.assign(img.pixels(), kMarkNone);
   }
   uint32_t epoch = 0;
@@ -196,6 +196,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
     return false;
   const bool first = reproject_epoch == 0;
   reproject_epoch = epoch;
+  const CameraBasis before = reproject_basis;  // the camera the marked pixels' points are relative to
   reproject_basis = make_camera_basis(camera, img.width, img.height);
   if (first) return false;
   const double c0 = thread_cpu_seconds();
@@ -211,7 +212,7 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   // engine's point of its newest update (read by the reprojection).
   const PixelImage& from = deferred ? *deferred : img;
   census.clear();  // the gather counts the epochs it moves
-  const ReprojectStats st = reprojector.run(reproject_basis, from.slots(points, marks, engine_points),
+  const ReprojectStats st = reprojector.run(before, reproject_basis, from.slots(points, marks, engine_points),
                                             out.slots(points_out, marks_out), world_moves, 3, &census);
   // The records stay in place: a stale back buffer gets the newest image's.
   if (deferred) std::memcpy(img.rec.data(), deferred->rec.data(), img.rec.size() * sizeof(PlaceRecord));

@@ -73,10 +73,10 @@ struct DisplayThread::Impl {
   // A full copy catch_up left for later: the back buffer is a stale copy of `deferred` (the
   // newest image), which a reprojection this tick reads directly instead; else it is copied.
   const PixelImage* deferred = nullptr;
-  // Reprojection's marks by pixel and, for marked pixels (content moved there), their points; an
-  // unmarked pixel's point is the engine's. The display thread's alone, so outside the triple
-  // buffer; with the reprojection's output for them.
-  std::vector<ScenePoint> points, points_out;
+  // Reprojection's marks by pixel and, for marked pixels (content moved there), their points
+  // (relative to reproject_basis); an unmarked pixel's point is the engine's. The display
+  // thread's alone, so outside the triple buffer; with the reprojection's output for them.
+  std::vector<ViewPoint> points, points_out;
   std::vector<uint8_t> marks, marks_out;
   ReprojectTotals reproject_totals;
   ReprojectBudget reproject_budget;

@@ -105,68 +105,82 @@ uint32_t Reprojector::farthest_in_rows(int x, int y, int w, int h, int r) {
 }
 
 #if defined(__AVX512F__)
-// The splat 16 pixels a step: their points transposed into components, projected as Projector
-// does (the same fused operations, so the same pixels and depths), then each landed point's key
-// kept if nearer, in pixel order. Returns the pixels done (a multiple of 16).
-size_t Reprojector::splat16(const Projector& pr, const SlotImage& from, int w) {
+// The splat 16 pixels a step: their view points split into depths and bits, moved as ViewMove
+// does (the same fused operations, so the same pixels, depths and fractions), then each landed
+// point's key kept if nearer (a minimum: the lanes' order does not matter). Unmarked pixels (the
+// engine's world points, few while moving) go to splat_one. Returns the pixels done.
+size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
+  if (w < 16) return 0;  // a step's pixels span at most two rows
   const size_t n = from.pixels() / 16 * 16;
-  // Components of points 0..7 from two vectors of four points (x, y, z, object each).
-  const __m512i first_xy = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 1, 5, 9, 13, 17, 21, 25, 29);
-  const __m512i first_zo = _mm512_add_epi32(first_xy, _mm512_set1_epi32(2));
-  const __m512i low8 = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
-  const __m512i high8 = _mm512_add_epi32(low8, _mm512_set1_epi32(8));
-  const __m512 zero = _mm512_setzero_ps();
+  const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+  const __m512i odd = _mm512_add_epi32(even, _mm512_set1_epi32(1));
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i fraction = _mm512_set1_epi32(int(kViewFractionMask)), width = _mm512_set1_epi32(w);
+  const __m512 half = _mm512_set1_ps(0.5f), step = _mm512_set1_ps(kViewFractionStep);
+  const __m512 zero = _mm512_setzero_ps(), scale = _mm512_set1_ps(32768.0f);
   const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
-  const __m512i none = _mm512_set1_epi32(int(kPointNone)), sky = _mm512_set1_epi32(int(kPointSky));
+  const __m512i sky = _mm512_set1_epi32(int(kViewSky));
   alignas(64) uint32_t target[16], depth_bits[16];
-  for (size_t p = 0; p < n; p += 16) {
+  uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
+  for (size_t p = 0; p < n; p += 16, x0 += 16) {
+    if (x0 >= uint32_t(w)) x0 -= uint32_t(w), ++y0;
+    __mmask16 engine = 0;
     if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
-      // Their points lie scattered among the marked ones (no stream the prefetchers see), each
-      // last written by a render thread's core: ask for them 64 pixels ahead.
+      // Scattered among the marked ones and last written by a render thread's core: asked for
+      // 64 pixels ahead.
       if (p + 64 + 16 <= n) {
         const __m128i ahead = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p + 64));
         for (unsigned m = _mm_cmpeq_epi8_mask(ahead, _mm_setzero_si128()); m; m &= m - 1u)
           __builtin_prefetch(from.engine_points + p + 64 + __builtin_ctz(m));
       }
-      const __m128i marks = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p));
-      for (unsigned m = _mm_cmpeq_epi8_mask(marks, _mm_setzero_si128()); m; m &= m - 1u)
-        from.points[p + __builtin_ctz(m)] = engine_point(from, p + __builtin_ctz(m));
+      engine = _mm_cmpeq_epi8_mask(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from.marks + p)), _mm_setzero_si128());
     }
     const float* f = reinterpret_cast<const float*>(from.points + p);
-    const __m512 a = _mm512_loadu_ps(f), b = _mm512_loadu_ps(f + 16), c = _mm512_loadu_ps(f + 32),
-                 d = _mm512_loadu_ps(f + 48);
-    const __m512 xy0 = _mm512_permutex2var_ps(a, first_xy, b), xy1 = _mm512_permutex2var_ps(c, first_xy, d);
-    const __m512 zo0 = _mm512_permutex2var_ps(a, first_zo, b), zo1 = _mm512_permutex2var_ps(c, first_zo, d);
-    const __m512 px = _mm512_permutex2var_ps(xy0, low8, xy1), py = _mm512_permutex2var_ps(xy0, high8, xy1);
-    const __m512 pz = _mm512_permutex2var_ps(zo0, low8, zo1);
-    const __m512i object = _mm512_castps_si512(_mm512_permutex2var_ps(zo0, high8, zo1));
-    const __mmask16 is_sky = _mm512_cmpeq_epi32_mask(object, sky);
-    const __mmask16 not_sky = __mmask16(~is_sky);
-    // The sky's point is a direction; any other is a position.
-    const __m512 dx = _mm512_mask_sub_ps(px, not_sky, px, _mm512_set1_ps(pr.eye.x));
-    const __m512 dy = _mm512_mask_sub_ps(py, not_sky, py, _mm512_set1_ps(pr.eye.y));
-    const __m512 dz = _mm512_mask_sub_ps(pz, not_sky, pz, _mm512_set1_ps(pr.eye.z));
-    const auto dot = [&](const Vec3& v) {  // dot_exact's order: z's product, then y and x fused
-      return _mm512_fmadd_ps(dx, _mm512_set1_ps(v.x),
-                             _mm512_fmadd_ps(dy, _mm512_set1_ps(v.y), _mm512_mul_ps(dz, _mm512_set1_ps(v.z))));
+    const __m512 a = _mm512_loadu_ps(f), b = _mm512_loadu_ps(f + 16);
+    const __m512 depth = _mm512_permutex2var_ps(a, even, b);
+    const __m512i bits = _mm512_castps_si512(_mm512_permutex2var_ps(a, odd, b));
+    const __m512i kind = _mm512_srli_epi32(bits, kViewKindShift);
+    __m512i x = _mm512_add_epi32(_mm512_set1_epi32(int(x0)), lane);
+    const __mmask16 wrap = _mm512_cmpge_epu32_mask(x, width);
+    x = _mm512_mask_sub_epi32(x, wrap, x, width);
+    const __m512i y = _mm512_mask_add_epi32(_mm512_set1_epi32(int(y0)), wrap, _mm512_set1_epi32(int(y0)), _mm512_set1_epi32(1));
+    // view_position
+    const __m512 X = _mm512_fmadd_ps(_mm512_add_ps(_mm512_cvtepi32_ps(_mm512_and_si512(bits, fraction)), half), step,
+                                     _mm512_cvtepi32_ps(x));
+    const __m512 Y = _mm512_fmadd_ps(
+        _mm512_add_ps(_mm512_cvtepi32_ps(_mm512_and_si512(_mm512_srli_epi32(bits, kViewFractionBits), fraction)), half),
+        step, _mm512_cvtepi32_ps(y));
+    const __mmask16 is_sky = _mm512_cmpeq_epi32_mask(kind, sky);
+    const auto axis = [&](int i) {
+      const __m512 k = _mm512_fmadd_ps(_mm512_set1_ps(mv.k2[i]), Y,
+                                       _mm512_fmadd_ps(_mm512_set1_ps(mv.k1[i]), X, _mm512_set1_ps(mv.k0[i])));
+      return _mm512_mask_mov_ps(_mm512_fmadd_ps(depth, k, _mm512_set1_ps(mv.t[i])), is_sky, k);
     };
-    const __m512 z = dot(pr.w);
+    const __m512 z = axis(0);
     const __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), z);
-    const __m512 sx = _mm512_fmadd_ps(dot(pr.x), inv, _mm512_set1_ps(pr.cx));
-    const __m512 sy = _mm512_fnmadd_ps(dot(pr.y), inv, _mm512_set1_ps(pr.cy));
-    __mmask16 landed = _mm512_cmpneq_epi32_mask(object, none) & _mm512_cmp_ps_mask(z, zero, _CMP_GT_OQ);
-    landed &= _mm512_cmp_ps_mask(sx, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sx, _mm512_set1_ps(pr.width), _CMP_LT_OQ);
-    landed &= _mm512_cmp_ps_mask(sy, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sy, _mm512_set1_ps(pr.height), _CMP_LT_OQ);
-    if (!landed) continue;
-    const __m512i t = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_cvttps_epi32(sy), _mm512_set1_epi32(w)),
-                                       _mm512_cvttps_epi32(sx));
-    _mm512_store_si512(target, t);
-    _mm512_store_si512(depth_bits, _mm512_castps_si512(_mm512_mask_mov_ps(z, is_sky, inf)));
-    for (unsigned m = landed; m; m &= m - 1u) {
-      const unsigned i = unsigned(__builtin_ctz(m));
-      uint64_t& k = key_[target[i]];
-      k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+    const __m512 sx = _mm512_fmadd_ps(axis(1), inv, _mm512_set1_ps(mv.to.cx));
+    const __m512 sy = _mm512_fnmadd_ps(axis(2), inv, _mm512_set1_ps(mv.to.cy));
+    __mmask16 landed = _mm512_mask_cmpneq_epi32_mask(__mmask16(~engine), kind, _mm512_setzero_si512()) &
+                       _mm512_cmp_ps_mask(z, zero, _CMP_GT_OQ);
+    landed &= _mm512_cmp_ps_mask(sx, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sx, _mm512_set1_ps(mv.to.width), _CMP_LT_OQ);
+    landed &= _mm512_cmp_ps_mask(sy, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sy, _mm512_set1_ps(mv.to.height), _CMP_LT_OQ);
+    if (landed) {
+      const __m512i ix = _mm512_cvttps_epi32(sx), iy = _mm512_cvttps_epi32(sy);
+      _mm512_store_si512(target, _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix));
+      _mm512_store_si512(depth_bits, _mm512_castps_si512(_mm512_mask_mov_ps(z, is_sky, inf)));
+      // view_bits
+      const __m512i qx = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sx, _mm512_cvtepi32_ps(ix)), scale));
+      const __m512i qy = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sy, _mm512_cvtepi32_ps(iy)), scale));
+      const __m512i word = _mm512_or_si512(_mm512_or_si512(qx, _mm512_slli_epi32(qy, kViewFractionBits)),
+                                           _mm512_slli_epi32(kind, kViewKindShift));
+      _mm512_mask_storeu_epi32(moved_.data() + p, landed, word);
+      for (unsigned m = landed; m; m &= m - 1u) {
+        const unsigned i = unsigned(__builtin_ctz(m));
+        uint64_t& k = key_[target[i]];
+        k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+      }
     }
+    for (unsigned m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
   }
   return n;
 }
@@ -282,7 +296,27 @@ void Reprojector::cracks8(int w, int h) {
 }
 #endif
 
-ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
+void Reprojector::land(size_t p, bool in, float px, float py, float depth, uint32_t kind, int w) {
+  if (!in) return;
+  const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
+  key_[t] = std::min(key_[t], make_key(depth, uint32_t(p)));
+  moved_[p] = view_bits(px, py, kind);
+}
+
+void Reprojector::splat_one(const ViewMove& move, const SlotImage& from, size_t p, int w) {
+  float px, py, d;
+  if (from.engine_points && !from.marks[p]) {  // the engine's newest point, in world space
+    const ScenePoint point = engine_point(from, p);
+    const bool in = move.to(point, px, py, d);
+    land(p, in, px, py, d, view_kind_of(point.object), w);
+    return;
+  }
+  const ViewPoint& v = from.points[p];
+  const bool in = move(v, uint32_t(p % size_t(w)), uint32_t(p / size_t(w)), px, py, d);
+  land(p, in, px, py, d, view_kind(v.bits), w);
+}
+
+ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
                                 const SlotImage& to, bool world_moves, int max_fill, EpochCensus* census) {
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
@@ -300,20 +334,15 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // surface, and between two sky points the first stays). Points lie on their pixel centre's ray
   // (trace_sample), so each pixel moves by its centre's motion. An unmarked pixel's point is the
   // engine's newest, copied here for the gather below.
-  const Projector project(after);
+  const ViewMove move(before, after);
+  if (moved_.size() < n) moved_.resize(n);
   size_t p0 = 0;
 #if defined(__AVX512F__)
-  if (vectorized_) p0 = splat16(project, from, w);
+  if (vectorized_) p0 = splat16(move, from, w);
 #elif defined(__AVX2__)
-  if (vectorized_) p0 = splat8(project, from, w);
+  if (vectorized_) p0 = splat8(move, from, w);
 #endif
-  for (size_t p = p0; p < n; ++p) {
-    if (from.engine_points && !from.marks[p]) from.points[p] = engine_point(from, p);
-    float px, py, d;
-    if (!project(from.points[p], px, py, d)) continue;
-    const size_t t = size_t(int(py)) * size_t(w) + size_t(int(px));
-    key_[t] = std::min(key_[t], make_key(d, uint32_t(p)));
-  }
+  for (size_t p = p0; p < n; ++p) splat_one(move, from, p, w);
   lap(ReprojectTimes::splat);
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
@@ -360,9 +389,6 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   // point: snapping it to the pixel centre made the image drift by up to half a pixel per
   // reprojection (a random walk; worse error in bench motion although fewer holes). The engine's
   // sequence numbers stay with the slots (the display keeps them apart from the pixels).
-  const Vec3 step = after.u * (2.0f * after.tan_half * after.aspect / float(w));
-  row_dirs_.resize(size_t(h));
-  for (int y = 0; y < h; ++y) row_dirs_[size_t(y)] = camera_direction(after, 0.5f, float(y) + 0.5f);
   // Four histograms, by pixel index: one counter bumped pixel after pixel would wait on its own
   // store each time.
   size_t by_mark[4][256] = {};
@@ -376,14 +402,17 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
       source = uint32_t(t);
       mark = kMarkDisoccluded | kMarkUnknown;
     }
-    ScenePoint point = from.points[source];
-    if (mark & (kMarkFilled | kMarkDisoccluded) && !(mark & kMarkUnknown)) {
-      // A copy of a neighbour's content gets its own point, on its centre ray at that depth:
-      // a copy of the neighbour's point would collide with it next time and open the hole again.
-      const Vec3 dir = row_dirs_[t / size_t(w)] + float(t % size_t(w)) * step;
-      point.p = point.object == kPointSky ? dir : after.eye + key_depth(key) * dir;
+    // Moved content keeps where its point landed (the splat's moved_); a copy of a neighbour's
+    // content gets its own point, at this pixel's centre at that depth: a copy of the
+    // neighbour's point would collide with it next time and open the hole again. Old content
+    // under a hole keeps no point (it is a guess the next sample replaces).
+    ViewPoint point;
+    if (!(mark & kMarkUnknown)) {
+      const uint32_t landed = moved_[source];
+      point.depth = key_depth(key);
+      point.bits = mark & (kMarkFilled | kMarkDisoccluded) ? kViewCentre | (landed & ~0u << kViewKindShift) : landed;
     }
-    if (world_moves && point_may_move(point.object)) mark |= kMarkStale;
+    if (world_moves && view_kind(point.bits) == kViewMoving) mark |= kMarkStale;
     to.points[t] = point;
     to.marks[t] = mark;
     ++by_mark[t & 3][mark];
@@ -399,7 +428,7 @@ ReprojectStats Reprojector::run(const CameraBasis& after, const SlotImage& from,
   if ((t) + kSourceAhead < n) {                                                            \
     const uint32_t ahead = uint32_t(keys[(t) + kSourceAhead]);                             \
     if (ahead < n) { /* else a hole */                                                     \
-      __builtin_prefetch(from.points + ahead);                                             \
+      __builtin_prefetch(moved_.data() + ahead);                                           \
       __builtin_prefetch(from.slot_of ? static_cast<const void*>(from.slot_of + ahead) : from.px + ahead); \
     }                                                                                      \
   }

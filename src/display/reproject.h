@@ -13,39 +13,10 @@
 #include "core/base/fused_float.h"
 #include "core/scene/camera.h"
 #include "display/display_pixel.h"
+#include "display/view_point.h"
 #include "frameless/pixel_points.h"
 
 namespace frameless {
-
-// camera_ray inverted, with its constants folded: for d = point - eye, z = w.d, the pixel
-// position is (cx + x.d / z, cy - y.d / z) (sx = (2 px / W - 1) tan_half aspect, sy = (1 - 2 py / H) tan_half).
-struct Projector {
-  explicit Projector(const CameraBasis& b)
-      : eye(b.eye), w(b.w), x(b.u * (0.5f * float(b.width) / (b.tan_half * b.aspect))),
-        y(b.v * (0.5f * float(b.height) / b.tan_half)), cx(0.5f * float(b.width)),
-        cy(0.5f * float(b.height)), width(float(b.width)), height(float(b.height)) {}
-  Vec3 eye, w, x, y;
-  float cx, cy, width, height;
-  // Where `point` appears: continuous pixel position and its depth along the view axis
-  // (+infinity for the sky, whose position is a direction). False behind the eye or outside.
-  bool operator()(const ScenePoint& point, float& px, float& py, float& depth) const {
-    if (point.object == kPointNone) return false;
-    const bool sky = point.object == kPointSky;
-    const Vec3 d = sky ? point.p : point.p - eye;
-    // Explicitly fused (core/base/fused_float.h), so the splat's vector form rounds alike.
-    const float z = dot_exact(d, w);
-    if (!(z > 0.0f)) return false;  // behind the eye (or NaN)
-    const float inv = 1.0f / z;
-    px = fmadd(dot_exact(d, x), inv, cx);
-    py = fmadd(-dot_exact(d, y), inv, cy);
-    depth = sky ? std::numeric_limits<float>::infinity() : z;
-    return px >= 0.0f && px < width && py >= 0.0f && py < height;
-  }
-};
-
-inline bool project_point(const CameraBasis& to, const ScenePoint& point, float& px, float& py, float& depth) {
-  return Projector(to)(point, px, py, depth);
-}
 
 // The display's CPU budget for reprojection, a leaky bucket: credit fills at `budget` seconds of
 // CPU per second of wall time, at most one reprojection's cost ahead; a reprojection spends its
@@ -79,16 +50,16 @@ struct ReprojectStats {
 };
 
 // The display image: pixels by slot (slot s holds pixel pixel_of[s], identity when null), points
-// and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest
-// update there, so its point is read from `engine_points` when set (the reprojection copies it
-// into `points`, whole: read_point); a marked pixel shows moved content, whose point is in `points`.
+// and marks by pixel. A pixel whose mark is kMarkNone shows the engine's newest update there, so
+// its point is the engine's (world space, read whole from `engine_points` when set); a marked
+// pixel shows moved content, whose point is in `points`, relative to the image's camera.
 struct SlotImage {
   int width = 0;
   int height = 0;
   const uint32_t* pixel_of = nullptr;
   const uint32_t* slot_of = nullptr;
   DisplayPixel* px = nullptr;
-  ScenePoint* points = nullptr;
+  ViewPoint* points = nullptr;
   uint8_t* marks = nullptr;
   const PixelPoint* engine_points = nullptr;
   size_t pixels() const { return size_t(width) * size_t(height); }
@@ -111,15 +82,14 @@ struct ReprojectTimes {
 
 class Reprojector {
  public:
-  // `to` <- `from` moved to camera `after` (same size and slot order): each pixel goes where its
-  // point projects (points lie on their pixel centre's ray, see SampleResult::position). Slots
-  // without a point (never rendered) move nowhere; a disoccluded pixel with nothing landed within
-  // `max_fill` pixels keeps `from`'s own content, marked. `from.points` gets the engine's points
-  // of its unmarked pixels.
+  // `to` <- `from` (whose points are relative to camera `before`) moved to camera `after` (same
+  // size and slot order; `to`'s points are then relative to `after`): each pixel goes where its
+  // point projects. Slots without a point (never rendered) move nowhere; a disoccluded pixel with
+  // nothing landed within `max_fill` pixels keeps `from`'s own content, marked, without a point.
   // `world_moves`: something may have moved, so pixels showing dynamic objects or instances are
   // marked stale (else nothing is).
   // `census` (optional, cleared by the caller): counts the epochs of the pixels `to` shows.
-  ReprojectStats run(const CameraBasis& after, const SlotImage& from,
+  ReprojectStats run(const CameraBasis& before, const CameraBasis& after, const SlotImage& from,
                      const SlotImage& to, bool world_moves = true, int max_fill = 3,
                      EpochCensus* census = nullptr);
 
@@ -148,12 +118,16 @@ class Reprojector {
  private:
   uint32_t farther(uint32_t a, uint32_t b) const;
   bool vector_window(int r) const;
-  size_t splat16(const Projector& project, const SlotImage& from, int w);
+  size_t splat16(const ViewMove& move, const SlotImage& from, int w);
   void crack(uint32_t t, int w, int h);
   void cracks8(int w, int h);
   // The AVX2 forms of splat16, cracks8 and the vector window (reproject_avx2.cpp), for cores
   // without AVX-512.
-  size_t splat8(const Projector& project, const SlotImage& from, int w);
+  size_t splat8(const ViewMove& move, const SlotImage& from, int w);
+  // Lands source pixel p (its point already known) and records where (moved_).
+  void land(size_t p, bool in, float px, float py, float depth, uint32_t kind, int w);
+  // The scalar splat of pixel p: marked, its ViewPoint moved; unmarked, the engine's point.
+  void splat_one(const ViewMove& move, const SlotImage& from, size_t p, int w);
   void cracks4(int w, int h);
   uint32_t farthest_in_window4(int x, int y, int w, int h, int r) const;
   uint32_t farthest_in_window(int x, int y, int w, int h, int r) const;
@@ -176,8 +150,10 @@ class Reprojector {
   std::vector<uint64_t> row_fill_[2];  // cracks8 (cracks4): a row's fill keys, 8 (4) per group
   std::vector<uint8_t> row_found_[2];  // cracks8 (cracks4): which of a group's pixels were filled
   std::vector<Fill> fills_;      // a pass's fills, applied together after it
-  std::vector<Vec3> row_dirs_;   // the new camera's centre ray of each row's first pixel
   std::vector<uint32_t> source_slot_;  // by pixel: the slot of `from` the gather copies
+  // By source pixel of `from`, where its point landed in `after`: view_bits (fractions and kind);
+  // the gather builds the moved points from these and the keys' depths.
+  std::vector<uint32_t> moved_;
 };
 
 }  // namespace frameless

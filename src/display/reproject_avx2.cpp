@@ -32,65 +32,86 @@ inline __m256i widen(__m128 mask) { return _mm256_cvtepi32_epi64(_mm_castps_si12
 
 }  // namespace
 
-// splat16 eight slots a step: four vectors of two points each transposed into components (lane
-// i holds point kLane[i]), projected with Projector's fused operations, then each landed point's
-// key kept if nearer (a minimum: the order of the lanes does not matter).
-size_t Reprojector::splat8(const Projector& pr, const SlotImage& from, int w) {
-  static constexpr uint32_t kLane[8] = {0, 2, 4, 6, 1, 3, 5, 7};
+// splat16 eight pixels a step: two vectors of four view points split into depths and bits,
+// moved with ViewMove's fused operations, then each landed point's key kept if nearer (a minimum:
+// the order of the lanes does not matter); unmarked pixels go to splat_one.
+size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
+  if (w < 8) return 0;  // a step's pixels span at most two rows
   const size_t n = from.pixels() / 8 * 8;
-  const __m256 zero = _mm256_setzero_ps();
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i fraction = _mm256_set1_epi32(int(kViewFractionMask)), width = _mm256_set1_epi32(w);
+  const __m256 half = _mm256_set1_ps(0.5f), step = _mm256_set1_ps(kViewFractionStep);
+  const __m256 zero = _mm256_setzero_ps(), scale = _mm256_set1_ps(32768.0f);
   const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-  const __m256i none = _mm256_set1_epi32(int(kPointNone)), sky = _mm256_set1_epi32(int(kPointSky));
+  const __m256i sky = _mm256_set1_epi32(int(kViewSky));
   alignas(32) uint32_t target[8], depth_bits[8];
-  for (size_t p = 0; p < n; p += 8) {
+  uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
+  for (size_t p = 0; p < n; p += 8, x0 += 8) {
+    if (x0 >= uint32_t(w)) x0 -= uint32_t(w), ++y0;
+    uint32_t engine = 0;
     if (from.engine_points) {  // unmarked pixels show the engine's newest point (few while moving)
       // Scattered among the marked ones and last written by a render thread's core: asked for
       // 64 pixels ahead.
       if (p + 64 + 8 <= n)
         for (uint32_t m = zero_bytes(from.marks + p + 64); m; m &= m - 1u)
           __builtin_prefetch(from.engine_points + p + 64 + __builtin_ctz(m));
-      for (uint32_t m = zero_bytes(from.marks + p); m; m &= m - 1u)
-        from.points[p + __builtin_ctz(m)] = engine_point(from, p + __builtin_ctz(m));
+      engine = zero_bytes(from.marks + p);
     }
     const float* f = reinterpret_cast<const float*>(from.points + p);
-    const __m256 a = _mm256_loadu_ps(f), b = _mm256_loadu_ps(f + 8), c = _mm256_loadu_ps(f + 16),
-                 d = _mm256_loadu_ps(f + 24);
-    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
-    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-    const __m256 px = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256 py = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
-    const __m256 pz = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256i object = _mm256_castps_si256(_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2)));
-    const __m256 is_sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(object, sky));
-    // The sky's point is a direction; any other is a position.
-    const __m256 dx = _mm256_blendv_ps(_mm256_sub_ps(px, _mm256_set1_ps(pr.eye.x)), px, is_sky);
-    const __m256 dy = _mm256_blendv_ps(_mm256_sub_ps(py, _mm256_set1_ps(pr.eye.y)), py, is_sky);
-    const __m256 dz = _mm256_blendv_ps(_mm256_sub_ps(pz, _mm256_set1_ps(pr.eye.z)), pz, is_sky);
-    const auto dot = [&](const Vec3& v) {  // dot_exact's order: z's product, then y and x fused
-      return _mm256_fmadd_ps(dx, _mm256_set1_ps(v.x),
-                             _mm256_fmadd_ps(dy, _mm256_set1_ps(v.y), _mm256_mul_ps(dz, _mm256_set1_ps(v.z))));
+    const __m256 a = _mm256_loadu_ps(f), b = _mm256_loadu_ps(f + 8);
+    // Lanes 0, 1, 4, 5, 2, 3, 6, 7 of each shuffle; the 64-bit permute puts them in order.
+    const __m256 depth = _mm256_castpd_ps(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0))), _MM_SHUFFLE(3, 1, 2, 0)));
+    const __m256i bits = _mm256_castpd_si256(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1))), _MM_SHUFFLE(3, 1, 2, 0)));
+    const __m256i kind = _mm256_srli_epi32(bits, kViewKindShift);
+    __m256i x = _mm256_add_epi32(_mm256_set1_epi32(int(x0)), lane);
+    const __m256i wrap = _mm256_cmpgt_epi32(x, _mm256_set1_epi32(w - 1));
+    x = _mm256_sub_epi32(x, _mm256_and_si256(wrap, width));
+    const __m256i y = _mm256_sub_epi32(_mm256_set1_epi32(int(y0)), wrap);  // wrap lanes are -1
+    // view_position
+    const __m256 X = _mm256_fmadd_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_and_si256(bits, fraction)), half), step,
+                                     _mm256_cvtepi32_ps(x));
+    const __m256 Y = _mm256_fmadd_ps(
+        _mm256_add_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(bits, kViewFractionBits), fraction)), half),
+        step, _mm256_cvtepi32_ps(y));
+    const __m256 is_sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kind, sky));
+    const auto axis = [&](int i) {
+      const __m256 k = _mm256_fmadd_ps(_mm256_set1_ps(mv.k2[i]), Y,
+                                       _mm256_fmadd_ps(_mm256_set1_ps(mv.k1[i]), X, _mm256_set1_ps(mv.k0[i])));
+      return _mm256_blendv_ps(_mm256_fmadd_ps(depth, k, _mm256_set1_ps(mv.t[i])), k, is_sky);
     };
-    const __m256 z = dot(pr.w);
+    const __m256 z = axis(0);
     const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
-    const __m256 sx = _mm256_fmadd_ps(dot(pr.x), inv, _mm256_set1_ps(pr.cx));
-    const __m256 sy = _mm256_fnmadd_ps(dot(pr.y), inv, _mm256_set1_ps(pr.cy));
+    const __m256 sx = _mm256_fmadd_ps(axis(1), inv, _mm256_set1_ps(mv.to.cx));
+    const __m256 sy = _mm256_fnmadd_ps(axis(2), inv, _mm256_set1_ps(mv.to.cy));
     __m256 in = _mm256_cmp_ps(z, zero, _CMP_GT_OQ);
     in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sx, zero, _CMP_GE_OQ),
-                                         _mm256_cmp_ps(sx, _mm256_set1_ps(pr.width), _CMP_LT_OQ)));
+                                         _mm256_cmp_ps(sx, _mm256_set1_ps(mv.to.width), _CMP_LT_OQ)));
     in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sy, zero, _CMP_GE_OQ),
-                                         _mm256_cmp_ps(sy, _mm256_set1_ps(pr.height), _CMP_LT_OQ)));
-    in = _mm256_andnot_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(object, none)), in);
-    const uint32_t landed = uint32_t(_mm256_movemask_ps(in));
-    if (!landed) continue;
-    const __m256i t = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(sy), _mm256_set1_epi32(w)),
-                                       _mm256_cvttps_epi32(sx));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(target), t);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(depth_bits), _mm256_castps_si256(_mm256_blendv_ps(z, inf, is_sky)));
-    for (uint32_t m = landed; m; m &= m - 1u) {
-      const unsigned i = unsigned(__builtin_ctz(m));
-      uint64_t& k = key_[target[i]];
-      k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + kLane[i]));
+                                         _mm256_cmp_ps(sy, _mm256_set1_ps(mv.to.height), _CMP_LT_OQ)));
+    in = _mm256_andnot_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(kind, _mm256_setzero_si256())), in);
+    const uint32_t landed = uint32_t(_mm256_movemask_ps(in)) & ~engine;
+    if (landed) {
+      const __m256i ix = _mm256_cvttps_epi32(sx), iy = _mm256_cvttps_epi32(sy);
+      _mm256_store_si256(reinterpret_cast<__m256i*>(target), _mm256_add_epi32(_mm256_mullo_epi32(iy, width), ix));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(depth_bits), _mm256_castps_si256(_mm256_blendv_ps(z, inf, is_sky)));
+      // view_bits
+      const __m256i qx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sx, _mm256_cvtepi32_ps(ix)), scale));
+      const __m256i qy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sy, _mm256_cvtepi32_ps(iy)), scale));
+      const __m256i word = _mm256_or_si256(_mm256_or_si256(qx, _mm256_slli_epi32(qy, kViewFractionBits)),
+                                           _mm256_slli_epi32(kind, kViewKindShift));
+      const __m256i store = _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_set1_epi32(int(landed)),
+                                                                _mm256_sllv_epi32(_mm256_set1_epi32(1), lane)),
+                                               _mm256_setzero_si256());
+      _mm256_maskstore_epi32(reinterpret_cast<int*>(moved_.data() + p), store, word);
+      for (uint32_t m = landed; m; m &= m - 1u) {
+        const unsigned i = unsigned(__builtin_ctz(m));
+        uint64_t& k = key_[target[i]];
+        k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+      }
     }
+    for (uint32_t m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
   }
   return n;
 }

@@ -92,7 +92,7 @@ struct PixelImage {
   }
   // With the display's points and marks (which live outside the triple buffer: only the display
   // thread reads them), for reprojection.
-  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
+  SlotImage slots(std::vector<ViewPoint>& points, std::vector<uint8_t>& marks,
                   const PixelPoint* engine_points = nullptr) {
     return {width,       height,        layout ? layout->pixel_of.data() : nullptr,
             layout ? layout->slot_of.data() : nullptr,
@@ -100,7 +100,7 @@ struct PixelImage {
   }
   // The same as a reprojection's source, which reads the pixels only (the newest image stays
   // as it is for its readers).
-  SlotImage slots(std::vector<ScenePoint>& points, std::vector<uint8_t>& marks,
+  SlotImage slots(std::vector<ViewPoint>& points, std::vector<uint8_t>& marks,
                   const PixelPoint* engine_points) const {
     SlotImage s = const_cast<PixelImage*>(this)->slots(points, marks, engine_points);
     return s;

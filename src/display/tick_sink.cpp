@@ -65,15 +65,20 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
   const size_t slot = image->slot_of(pixel);
   uint8_t& mark = d.marks[pixel];
-  // A marked pixel shows moved content with its moved point; an unmarked one its own newest
-  // update (a point its owner keeps rewriting: leave the pixel as it is).
-  ScenePoint shown;
-  if (mark)
-    shown = d.points[pixel];
-  else if (!read_point(points[pixel], shown))
-    return;
-  float sx, sy, shown_depth;
-  const bool nearer = !project_point(b, shown, sx, sy, shown_depth) || depth <= shown_depth * 1.01f;
+  // A marked pixel shows moved content with its moved point (its depth in this camera); an
+  // unmarked one its own newest update (a point its owner keeps rewriting: leave the pixel as it is).
+  float shown_depth = 0.0f;
+  bool shows_point = false;
+  if (mark) {
+    shows_point = view_kind(d.points[pixel].bits) != kViewNone;
+    shown_depth = d.points[pixel].depth;
+  } else {
+    ScenePoint shown;
+    if (!read_point(points[pixel], shown)) return;
+    float sx, sy;
+    shows_point = project_point(b, shown, sx, sy, shown_depth);
+  }
+  const bool nearer = !shows_point || depth <= shown_depth * 1.01f;
   if (!(mark & kMarkGuess) && !nearer) return;  // hidden behind what the pixel shows
   DisplayPixel& m = image->px[slot];
   const Vec3 c = (mark & kMarkGuess) ? u.sample : blend(Vec3(m.rgb[0], m.rgb[1], m.rgb[2]), u.sample, rule.config.alpha);
@@ -81,7 +86,7 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   m.rgb[0] = c.x;
   m.rgb[1] = c.y;
   m.rgb[2] = c.z;
-  d.points[pixel] = point;
+  d.points[pixel] = {depth, view_bits(px, py, view_kind_of(point.object))};
   mark = kMarkMoved;
   ++d.reproject_totals.redirected;
   mark_dirty(slot, 1);

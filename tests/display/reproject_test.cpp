@@ -26,12 +26,32 @@ constexpr int kW = 64, kH = 48;
 
 // A synthetic frame seen from one camera: each pixel's centre ray hits the nearest of a
 // background plane z = 0 and (optionally) a square at z = 2 with |x|, |y| < 0.5.
+// The display keeps points relative to its camera (view_point.h): `world` holds them in world
+// space for the test to shape, encode() writes what the display keeps, point() reads it back.
 struct Synthetic {
   std::vector<DisplayPixel> px;
-  std::vector<ScenePoint> points;
+  std::vector<ScenePoint> world;
+  std::vector<ViewPoint> points;
   std::vector<uint8_t> marks;
+  CameraBasis camera;
   SlotImage image() {
     return {kW, kH, nullptr, nullptr, px.data(), points.data(), marks.data()};
+  }
+  Synthetic& encode() {
+    points = encode_points(camera, world);
+    return *this;
+  }
+  ScenePoint point(size_t t) const { return from_view(camera, points[t], t); }
+  // encode_points: each world point kept by the pixel it projects into (none where that is
+  // another pixel; the tests' points lie on their pixel's centre ray).
+  static std::vector<ViewPoint> encode_points(const CameraBasis& b, const std::vector<ScenePoint>& world) {
+    std::vector<ViewPoint> out(world.size());
+    for (size_t i = 0; i < world.size(); ++i) {
+      size_t at = i;
+      const ViewPoint v = to_view(b, world[i], at);
+      if (at == i) out[i] = v;
+    }
+    return out;
   }
 };
 
@@ -55,19 +75,33 @@ ScenePoint hit(const CameraBasis& b, float px, float py, bool square, bool* on_s
 Synthetic render(const CameraBasis& b, bool square) {
   Synthetic s;
   s.px.resize(size_t(kW) * kH);
-  s.points.resize(s.px.size());
+  s.world.resize(s.px.size());
+  s.camera = b;
   s.marks.assign(s.px.size(), kMarkNone);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const size_t i = size_t(y) * kW + size_t(x);
       bool sq = false;
-      s.points[i] = hit(b, float(x) + 0.5f, float(y) + 0.5f, square, &sq);
+      s.world[i] = hit(b, float(x) + 0.5f, float(y) + 0.5f, square, &sq);
       s.px[i].rgb[0] = float(x);
       s.px[i].rgb[1] = float(y);
       s.px[i].rgb[2] = sq ? 0.0f : 1.0f;
       s.px[i].epoch = 1 + uint32_t(i % 7);
     }
+  s.encode();
   return s;
+}
+
+// Where camera b sees point q, across and down (in pixels).
+float sx_of(const CameraBasis& b, const ScenePoint& q) {
+  float x = -1e9f, y, d;
+  project_point(b, q, x, y, d);
+  return x;
+}
+float sy_of(const CameraBasis& b, const ScenePoint& q) {
+  float x, y = -1e9f, d;
+  project_point(b, q, x, y, d);
+  return y;
 }
 
 CameraBasis basis(Vec3 eye, Vec3 look) {
@@ -83,22 +117,26 @@ TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
   const CameraBasis b = basis({0.3f, 0.2f, 4.6f}, {0.1f, 0.05f, 0.0f});
   Synthetic from = render(a, false), to = render(a, false);
   Reprojector r;
-  const ReprojectStats st = r.run(b, from.image(), to.image());
+  const ReprojectStats st = r.run(a, b, from.image(), to.image());
+  to.camera = b;  // the moved points are relative to the new camera
   EXPECT_GT(st.moved, size_t(kW * kH) * 8 / 10);
   size_t cracks = 0, crack_marked_uncovered = 0;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const size_t t = size_t(y) * kW + size_t(x);
-      const ScenePoint& p = to.points[t];
-      // Moved content keeps the point it was rendered with; a copy of a neighbour's content gets
-      // a point of its own, on its centre ray at that neighbour's depth.
+      const ScenePoint p = to.point(t);
+      // Moved content keeps the point it was rendered with (to the 1/32768 pixel the display
+      // keeps); a copy of a neighbour's content gets a point of its own, on its centre ray at
+      // that neighbour's depth.
       const size_t src = size_t(to.px[t].rgb[1]) * kW + size_t(to.px[t].rgb[0]);
+      const ScenePoint& q = from.world[src];
       if (to.marks[t] == kMarkMoved) {
-        ASSERT_EQ(std::memcmp(&p, &from.points[src], sizeof p), 0) << x << "," << y;
+        EXPECT_EQ(p.object, q.object);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(p.p[c], q.p[c], 2e-5f * glm::length(q.p - b.eye)) << x << "," << y;
       } else {
         float cx, cy, cd, sx, sy, sd;
         ASSERT_TRUE(project_point(b, p, cx, cy, cd));
-        ASSERT_TRUE(project_point(b, from.points[src], sx, sy, sd));
+        ASSERT_TRUE(project_point(b, q, sx, sy, sd));
         EXPECT_NEAR(cx, float(x) + 0.5f, 1e-3f) << x << "," << y;
         EXPECT_NEAR(cy, float(y) + 0.5f, 1e-3f) << x << "," << y;
         EXPECT_NEAR(cd, sd, 1e-5f * sd) << x << "," << y;
@@ -107,27 +145,28 @@ TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
       float px, py, d;
       ASSERT_TRUE(project_point(b, p, px, py, d));
       if (to.marks[t] == kMarkMoved) {
-        EXPECT_EQ(int(px), x);
-        EXPECT_EQ(int(py), y);
+        EXPECT_NEAR(px, float(x) + 0.5f, 0.5f + 1e-4f);  // inside its pixel
+        EXPECT_NEAR(py, float(y) + 0.5f, 0.5f + 1e-4f);
         // project_point inverts camera_ray: the new camera's ray there passes through the point.
         const Ray ray = camera_ray(b, px, py);
         const Vec3 off = p.p - ray.org;
         EXPECT_LT(glm::length(glm::cross(ray.dir, off)), 1e-5f * glm::length(off));
         EXPECT_NEAR(d, glm::dot(off, b.w), 1e-5f * d);
+        EXPECT_NEAR(d, to.points[t].depth, 1e-5f * d);  // the depth kept is the depth along the view axis
       } else {
         // A plane hides nothing: where the old camera saw the new pixel's point (3 pixels in from
         // its border), holes are cracks, filled from a close neighbour.
         ASSERT_TRUE(to.marks[t] & kMarkGuess);
         float ax, ay, ad;
-        const ScenePoint q = hit(b, float(x) + 0.5f, float(y) + 0.5f, false);
-        const bool seen = project_point(a, q, ax, ay, ad);
+        const ScenePoint h = hit(b, float(x) + 0.5f, float(y) + 0.5f, false);
+        const bool seen = project_point(a, h, ax, ay, ad);
         if (seen && ax >= 3 && ay >= 3 && ax < kW - 3 && ay < kH - 3) {
           ++cracks;
           crack_marked_uncovered += to.marks[t] == kMarkDisoccluded;
           // A crack takes a neighbour; a wider hole the farthest content within 4 pixels.
           const float reach = to.marks[t] == kMarkFilled ? 1.5f : 5.5f;
-          EXPECT_LE(std::fabs(px - (float(x) + 0.5f)), reach) << x << "," << y;
-          EXPECT_LE(std::fabs(py - (float(y) + 0.5f)), reach) << x << "," << y;
+          EXPECT_LE(std::fabs(sx_of(b, q) - (float(x) + 0.5f)), reach) << x << "," << y;
+          EXPECT_LE(std::fabs(sy_of(b, q) - (float(y) + 0.5f)), reach) << x << "," << y;
         }
       }
     }
@@ -140,7 +179,7 @@ TEST(Reproject, UncoveredPixelsAreMarkedAndFilledFromBehind) {
   const CameraBasis b = basis({0.5f, 0.0f, 5.0f}, {0.5f, 0.0f, 0.0f});  // sideways: parallax
   Synthetic from = render(a, true), to = render(a, true);
   Reprojector r;
-  const ReprojectStats st = r.run(b, from.image(), to.image());
+  const ReprojectStats st = r.run(a, b, from.image(), to.image());
   EXPECT_GT(st.disoccluded, 0u);
   size_t uncovered = 0;
   for (int y = 1; y + 1 < kH; ++y)
@@ -164,16 +203,17 @@ TEST(Reproject, UncoveredPixelsAreMarkedAndFilledFromBehind) {
 
 TEST(Reproject, PointsThatMayMoveAreMarkedStaleWhenTheWorldMoves) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const CameraBasis b = basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f});
   Synthetic from = render(a, false), to = render(a, false);
-  for (size_t i = 0; i < from.points.size(); i += 2) from.points[i].object = kPointDynamic + 3;
+  for (size_t i = 0; i < from.world.size(); i += 2) from.world[i].object = kPointDynamic + 3;
+  from.encode();
   Reprojector r;
-  const ReprojectStats st = r.run(basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image());
+  const ReprojectStats st = r.run(a, b, from.image(), to.image());
   EXPECT_GT(st.stale, size_t(kW * kH) / 3);
   for (size_t t = 0; t < to.points.size(); ++t)
-    EXPECT_EQ(bool(to.marks[t] & kMarkStale), point_may_move(to.points[t].object)) << t;
+    EXPECT_EQ(bool(to.marks[t] & kMarkStale), view_kind(to.points[t].bits) == kViewMoving) << t;
   // While nothing in the world has moved, instances and dynamic objects are where they were.
-  const ReprojectStats still_world =
-      r.run(basis({0.1f, 0.0f, 5.0f}, {0.1f, 0.0f, 0.0f}), from.image(), to.image(), false);
+  const ReprojectStats still_world = r.run(a, b, from.image(), to.image(), false);
   EXPECT_EQ(still_world.stale, 0u);
 }
 
@@ -184,10 +224,12 @@ TEST(Reproject, RepeatedStepsKeepTheImageWhole) {
   Synthetic cur = render(basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}), false), next = cur;
   Reprojector r;
   ReprojectStats st;
+  CameraBasis before = cur.camera;
   for (int k = 1; k <= 8; ++k) {
     const float angle = 0.015f * float(k);  // an orbit, about 1.5 pixels a step
-    st = r.run(basis({5.0f * std::sin(angle), 0.0f, 5.0f * std::cos(angle)}, {0.0f, 0.0f, 0.0f}),
-               cur.image(), next.image());
+    const CameraBasis after = basis({5.0f * std::sin(angle), 0.0f, 5.0f * std::cos(angle)}, {0.0f, 0.0f, 0.0f});
+    st = r.run(before, after, cur.image(), next.image());
+    before = after;
     std::swap(cur, next);
   }
   const size_t n = size_t(kW) * kH;
@@ -203,7 +245,7 @@ void expect_same_image(const Synthetic& a, const ReprojectStats& sa, const Synth
   EXPECT_EQ(sa.disoccluded, sb.disoccluded);
   EXPECT_EQ(sa.stale, sb.stale);
   EXPECT_EQ(std::memcmp(a.px.data(), b.px.data(), a.px.size() * sizeof(DisplayPixel)), 0);
-  EXPECT_EQ(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(ScenePoint)), 0);
+  EXPECT_EQ(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(ViewPoint)), 0);
   EXPECT_EQ(a.marks, b.marks);
 }
 
@@ -213,15 +255,16 @@ TEST(Reproject, RowSearchMatchesTheWindowSearch) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
-  for (size_t i = 0; i < from.points.size(); i += 7) from.points[i].object = kPointNone;  // holes
+  for (size_t i = 0; i < from.world.size(); i += 7) from.world[i].object = kPointNone;  // holes
+  from.encode();
   for (const int radius : {3, 5}) {
     SCOPED_TRACE(radius);
     Synthetic window = from, rows = from;
     Reprojector r;
     r.set_search(Reprojector::Search::window);
-    const ReprojectStats sw = r.run(b, from.image(), window.image(), true, radius);
+    const ReprojectStats sw = r.run(a, b, from.image(), window.image(), true, radius);
     r.set_search(Reprojector::Search::rows);
-    const ReprojectStats sr = r.run(b, from.image(), rows.image(), true, radius);
+    const ReprojectStats sr = r.run(a, b, from.image(), rows.image(), true, radius);
     EXPECT_GT(sw.disoccluded, size_t(kW * kH) / 8);
     expect_same_image(window, sw, rows, sr);
   }
@@ -233,19 +276,20 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
-  for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;  // holes
-  for (size_t i = 5; i < from.points.size(); i += 13) from.points[i].object = kPointDynamic + uint32_t(i % 3);
-  for (size_t i = 0; i < from.points.size(); ++i)  // depth steps of 3 % (cracks) and 6 % (edges)
-    from.points[i].p = a.eye + (from.points[i].p - a.eye) * (1.0f + 0.03f * float(i * 7 % 3));
+  for (size_t i = 0; i < from.world.size(); i += 11) from.world[i].object = kPointNone;  // holes
+  for (size_t i = 5; i < from.world.size(); i += 13) from.world[i].object = kPointDynamic + uint32_t(i % 3);
+  for (size_t i = 0; i < from.world.size(); ++i)  // depth steps of 3 % (cracks) and 6 % (edges)
+    from.world[i].p = a.eye + (from.world[i].p - a.eye) * (1.0f + 0.03f * float(i * 7 % 3));
   for (int y = 0; y < kH / 5; ++y)  // sky along the top: its points are directions
     for (int x = 0; x < kW; ++x)
-      from.points[size_t(y) * kW + size_t(x)] = {camera_ray(a, float(x) + 0.5f, float(y) + 0.5f).dir, kPointSky};
+      from.world[size_t(y) * kW + size_t(x)] = {camera_ray(a, float(x) + 0.5f, float(y) + 0.5f).dir, kPointSky};
+  from.encode();
   Synthetic vec = from, scalar = from;
   Reprojector r;
   r.set_search(Reprojector::Search::window);
-  const ReprojectStats sv = r.run(b, from.image(), vec.image());
+  const ReprojectStats sv = r.run(a, b, from.image(), vec.image());
   r.set_vectorized(false);
-  const ReprojectStats ss = r.run(b, from.image(), scalar.image());
+  const ReprojectStats ss = r.run(a, b, from.image(), scalar.image());
   EXPECT_GT(ss.filled, 0u);
   EXPECT_GT(ss.disoccluded, 0u);
   EXPECT_GT(ss.stale, 0u);
@@ -266,27 +310,28 @@ TEST(Reproject, SmallImagesMatchTheScalarCode) {
     const CameraBasis b = make_camera_basis(c, w, h);
     const size_t n = size_t(w) * size_t(h);
     std::vector<DisplayPixel> px(n);
-    std::vector<ScenePoint> points(n);
+    std::vector<ScenePoint> world(n);
     std::vector<uint8_t> marks(n, kMarkNone);
     for (size_t i = 0; i < n; ++i) {
       const Ray r = camera_ray(a, float(i % size_t(w)) + 0.5f, float(i / size_t(w)) + 0.5f);
-      points[i] = {r.org + (-r.org.z / r.dir.z) * (1.0f + 0.03f * float(i * 7 % 3)) * r.dir, kPointStatic};
-      if (i % 5 == 3) points[i].object = kPointNone;
+      world[i] = {r.org + (-r.org.z / r.dir.z) * (1.0f + 0.03f * float(i * 7 % 3)) * r.dir, kPointStatic};
+      if (i % 5 == 3) world[i].object = kPointNone;
       px[i].rgb[0] = float(i);
     }
+    std::vector<ViewPoint> points = Synthetic::encode_points(a, world);
     std::vector<DisplayPixel> vpx(n), spx(n);
-    std::vector<ScenePoint> vpoints(n), spoints(n);
+    std::vector<ViewPoint> vpoints(n), spoints(n);
     std::vector<uint8_t> vmarks(n), smarks(n);
     const SlotImage from{w, h, nullptr, nullptr, px.data(), points.data(), marks.data()};
     Reprojector r;
-    const ReprojectStats sv = r.run(b, from, {w, h, nullptr, nullptr, vpx.data(), vpoints.data(), vmarks.data()});
+    const ReprojectStats sv = r.run(a, b, from, {w, h, nullptr, nullptr, vpx.data(), vpoints.data(), vmarks.data()});
     r.set_vectorized(false);
-    const ReprojectStats ss = r.run(b, from, {w, h, nullptr, nullptr, spx.data(), spoints.data(), smarks.data()});
+    const ReprojectStats ss = r.run(a, b, from, {w, h, nullptr, nullptr, spx.data(), spoints.data(), smarks.data()});
     EXPECT_EQ(sv.moved, ss.moved);
     EXPECT_EQ(sv.filled, ss.filled);
     EXPECT_EQ(sv.disoccluded, ss.disoccluded);
     EXPECT_EQ(std::memcmp(vpx.data(), spx.data(), n * sizeof(DisplayPixel)), 0);
-    EXPECT_EQ(std::memcmp(vpoints.data(), spoints.data(), n * sizeof(ScenePoint)), 0);
+    EXPECT_EQ(std::memcmp(vpoints.data(), spoints.data(), n * sizeof(ViewPoint)), 0);
     EXPECT_EQ(vmarks, smarks);
     EXPECT_GE(sv.moved + sv.disoccluded + sv.filled, n);  // every pixel shows something
   }
@@ -299,7 +344,8 @@ TEST(Reproject, SlotOrderGivesThePixelOrderImage) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
   const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
   Synthetic from = render(a, true);
-  for (size_t i = 0; i < from.points.size(); i += 11) from.points[i].object = kPointNone;
+  for (size_t i = 0; i < from.world.size(); i += 11) from.world[i].object = kPointNone;
+  from.encode();
   PartitionConfig pc;
   pc.width = kW, pc.height = kH, pc.threads = 3;
   const std::vector<uint32_t> pixel_of = slot_order(make_partition(pc));
@@ -308,13 +354,13 @@ TEST(Reproject, SlotOrderGivesThePixelOrderImage) {
   ASSERT_NE(pixel_of[1], 1u) << "the layout should not be the identity";
   Synthetic by_pixel = from;
   Reprojector r;
-  const ReprojectStats sp = r.run(b, from.image(), by_pixel.image());
+  const ReprojectStats sp = r.run(a, b, from.image(), by_pixel.image());
   Synthetic slotted = from, slotted_out = from;
   for (size_t s = 0; s < pixel_of.size(); ++s) slotted.px[s] = from.px[pixel_of[s]];
   const auto slot_image = [&](Synthetic& img) {
     return SlotImage{kW, kH, pixel_of.data(), slot_of.data(), img.px.data(), img.points.data(), img.marks.data()};
   };
-  const ReprojectStats ss = r.run(b, slot_image(slotted), slot_image(slotted_out));
+  const ReprojectStats ss = r.run(a, b, slot_image(slotted), slot_image(slotted_out));
   EXPECT_GT(ss.filled, 0u);
   EXPECT_GT(ss.disoccluded, 0u);
   Synthetic back = slotted_out;  // by pixel again
