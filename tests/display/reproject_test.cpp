@@ -294,6 +294,23 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
   EXPECT_GT(ss.disoccluded, 0u);
   EXPECT_GT(ss.stale, 0u);
   expect_same_image(vec, sv, scalar, ss);
+  // In the display's slot order the gather takes two passes, the first one vectorized too.
+  PartitionConfig pc;
+  pc.width = kW, pc.height = kH, pc.threads = 3;
+  const std::vector<uint32_t> pixel_of = slot_order(make_partition(pc));
+  std::vector<uint32_t> slot_of(pixel_of.size());
+  for (size_t s = 0; s < pixel_of.size(); ++s) slot_of[pixel_of[s]] = uint32_t(s);
+  const auto slotted = [&](Synthetic& img) {
+    return SlotImage{kW, kH, pixel_of.data(), slot_of.data(), img.px.data(), img.points.data(), img.marks.data()};
+  };
+  Synthetic in_slots = from, vec_slots = from, scalar_slots = from;
+  for (size_t s = 0; s < pixel_of.size(); ++s) in_slots.px[s] = from.px[pixel_of[s]];
+  r.set_vectorized(true);
+  const ReprojectStats svs = r.run(a, b, slotted(in_slots), slotted(vec_slots));
+  r.set_vectorized(false);
+  const ReprojectStats sss = r.run(a, b, slotted(in_slots), slotted(scalar_slots));
+  EXPECT_GT(sss.stale, 0u);
+  expect_same_image(vec_slots, svs, scalar_slots, sss);
 }
 
 // The vector paths step eight pixels of a row and leave the border to the scalar code; images
