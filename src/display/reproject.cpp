@@ -120,7 +120,9 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
   const __m512 zero = _mm512_setzero_ps(), scale = _mm512_set1_ps(32768.0f);
   const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
   const __m512i sky = _mm512_set1_epi32(int(kViewSky));
-  alignas(64) uint32_t target[16], depth_bits[16];
+  alignas(64) uint32_t target[16];
+  alignas(64) uint64_t mine[16];
+  const __m512i spare = _mm512_set1_epi32(int(from.pixels()));  // key_[pixels]: written, never read
   uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
   for (size_t p = 0; p < n; p += 16, x0 += 16) {
     if (x0 >= uint32_t(w)) x0 -= uint32_t(w), ++y0;
@@ -166,18 +168,26 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
     landed &= _mm512_cmp_ps_mask(sy, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sy, _mm512_set1_ps(mv.to.height), _CMP_LT_OQ);
     if (landed) {
       const __m512i ix = _mm512_cvttps_epi32(sx), iy = _mm512_cvttps_epi32(sy);
-      _mm512_store_si512(target, _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix));
-      _mm512_store_si512(depth_bits, _mm512_castps_si512(_mm512_mask_mov_ps(z, is_sky, inf)));
+      _mm512_store_si512(target, _mm512_mask_blend_epi32(landed, spare, _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix)));
+      const __m512i depths = _mm512_castps_si512(_mm512_mask_mov_ps(z, is_sky, inf));
+      const __m512i source = _mm512_add_epi32(_mm512_set1_epi32(int(p)), lane);
+      const auto keys = [](__m256i d, __m256i s) {
+        return _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(d), 32), _mm512_cvtepu32_epi64(s));
+      };
+      _mm512_store_si512(mine, keys(_mm512_castsi512_si256(depths), _mm512_castsi512_si256(source)));
+      _mm512_store_si512(mine + 8, keys(_mm512_extracti64x4_epi64(depths, 1), _mm512_extracti64x4_epi64(source, 1)));
       // view_bits
       const __m512i qx = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sx, _mm512_cvtepi32_ps(ix)), scale));
       const __m512i qy = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sy, _mm512_cvtepi32_ps(iy)), scale));
       const __m512i word = _mm512_or_si512(_mm512_or_si512(qx, _mm512_slli_epi32(qy, kViewFractionBits)),
                                            _mm512_slli_epi32(kind, kViewKindShift));
       _mm512_mask_storeu_epi32(moved_.data() + p, landed, word);
-      for (unsigned m = landed; m; m &= m - 1u) {
-        const unsigned i = unsigned(__builtin_ctz(m));
+      // Every lane's key kept if nearer, the lanes that landed nowhere into the spare key past
+      // the image: no branch a lane (a loop over the landed lanes mispredicted its exit).
+#pragma GCC unroll 16
+      for (int i = 0; i < 16; ++i) {
         uint64_t& k = key_[target[i]];
-        k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+        k = std::min(k, mine[i]);
       }
     }
     for (unsigned m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
@@ -328,7 +338,7 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     mark_time = now;
   };
   times_ = {};
-  key_.assign(n, kHole);
+  key_.assign(n + 1, kHole);  // and a spare the vector splats write where a point lands nowhere
   marks_.assign(n, kMarkMoved);
   // Forward splat: each pixel's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays). Points lie on their pixel centre's ray

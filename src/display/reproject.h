@@ -98,8 +98,9 @@ class Reprojector {
   // there is one, else picks by the number of holes. All give the same image.
   enum class Search { automatic, window, rows };
   void set_search(Search s) { search_ = s; }
-  // AVX-512 paths (splat, crack search, disocclusion window) where the build has them, else
-  // AVX2 ones (the same three); off: the scalar code, which they must match exactly (tested).
+  // AVX-512 paths (splat, crack search, disocclusion window, the gather's pass by pixel) where the
+  // build has them, else AVX2 ones (the same four); off: the scalar code, which they must match
+  // exactly (tested).
   void set_vectorized(bool on) { vectorized_ = on; }
   // The phases of the last run().
   const ReprojectTimes& last_times() const { return times_; }

@@ -44,7 +44,9 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
   const __m256 zero = _mm256_setzero_ps(), scale = _mm256_set1_ps(32768.0f);
   const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256i sky = _mm256_set1_epi32(int(kViewSky));
-  alignas(32) uint32_t target[8], depth_bits[8];
+  alignas(32) uint32_t target[8];
+  alignas(32) uint64_t mine[8];
+  const __m256i spare = _mm256_set1_epi32(int(from.pixels()));  // key_[pixels]: written, never read
   uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
   for (size_t p = 0; p < n; p += 8, x0 += 8) {
     if (x0 >= uint32_t(w)) x0 -= uint32_t(w), ++y0;
@@ -94,21 +96,31 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
     const uint32_t landed = uint32_t(_mm256_movemask_ps(in)) & ~engine;
     if (landed) {
       const __m256i ix = _mm256_cvttps_epi32(sx), iy = _mm256_cvttps_epi32(sy);
-      _mm256_store_si256(reinterpret_cast<__m256i*>(target), _mm256_add_epi32(_mm256_mullo_epi32(iy, width), ix));
-      _mm256_store_si256(reinterpret_cast<__m256i*>(depth_bits), _mm256_castps_si256(_mm256_blendv_ps(z, inf, is_sky)));
+      const __m256i store = _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_set1_epi32(int(landed)),
+                                                                _mm256_sllv_epi32(_mm256_set1_epi32(1), lane)),
+                                               _mm256_setzero_si256());
+      _mm256_store_si256(reinterpret_cast<__m256i*>(target),
+                         _mm256_blendv_epi8(spare, _mm256_add_epi32(_mm256_mullo_epi32(iy, width), ix), store));
+      const __m256i depths = _mm256_castps_si256(_mm256_blendv_ps(z, inf, is_sky));
+      const __m256i source = _mm256_add_epi32(_mm256_set1_epi32(int(p)), lane);
+      const auto keys = [](__m128i d, __m128i s) {
+        return _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(d), 32), _mm256_cvtepu32_epi64(s));
+      };
+      _mm256_store_si256(reinterpret_cast<__m256i*>(mine),
+                         keys(_mm256_castsi256_si128(depths), _mm256_castsi256_si128(source)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(mine + 4),
+                         keys(_mm256_extracti128_si256(depths, 1), _mm256_extracti128_si256(source, 1)));
       // view_bits
       const __m256i qx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sx, _mm256_cvtepi32_ps(ix)), scale));
       const __m256i qy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sy, _mm256_cvtepi32_ps(iy)), scale));
       const __m256i word = _mm256_or_si256(_mm256_or_si256(qx, _mm256_slli_epi32(qy, kViewFractionBits)),
                                            _mm256_slli_epi32(kind, kViewKindShift));
-      const __m256i store = _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_set1_epi32(int(landed)),
-                                                                _mm256_sllv_epi32(_mm256_set1_epi32(1), lane)),
-                                               _mm256_setzero_si256());
       _mm256_maskstore_epi32(reinterpret_cast<int*>(moved_.data() + p), store, word);
-      for (uint32_t m = landed; m; m &= m - 1u) {
-        const unsigned i = unsigned(__builtin_ctz(m));
+      // As splat16: every lane's key, the lanes that landed nowhere into the spare key.
+#pragma GCC unroll 8
+      for (int i = 0; i < 8; ++i) {
         uint64_t& k = key_[target[i]];
-        k = std::min(k, uint64_t(depth_bits[i]) << 32 | uint64_t(p + i));
+        k = std::min(k, mine[i]);
       }
     }
     for (uint32_t m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
