@@ -8,15 +8,6 @@
 
 #include "display/reproject_keys.h"
 
-#if defined(__AVX512F__)
-#include <immintrin.h>
-#if defined(__GNUC__) && !defined(__clang__)
-// GCC 12 flags the deliberately undefined operands inside its own AVX-512 intrinsics
-// (clang's -Wsometimes-uninitialized still checks this file).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-#endif
-
 namespace frameless {
 using namespace reproject_keys;
 

@@ -9,16 +9,6 @@
 #include "display/reproject.h"
 #include "display/reproject_keys.h"
 
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
-#if defined(__AVX512F__)
-#if defined(__GNUC__) && !defined(__clang__)
-// GCC 12 flags the deliberately undefined operands inside its own AVX-512 intrinsics.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-#endif
-
 namespace frameless {
 using namespace reproject_keys;
 

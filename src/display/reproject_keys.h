@@ -6,6 +6,15 @@
 
 #include "display/reproject.h"
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+#if defined(__AVX512F__) && defined(__GNUC__) && !defined(__clang__)
+// GCC 12 flags the deliberately undefined operands inside its own AVX-512 intrinsics in the
+// vector paths that include this (clang's -Wsometimes-uninitialized still checks them).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace frameless::reproject_keys {
 
 constexpr uint32_t kNone = ~0u;
