@@ -354,6 +354,38 @@ TEST(Reproject, SmallImagesMatchTheScalarCode) {
   }
 }
 
+// The census the gather counts is exact: each epoch the moved image shows, as often as it shows
+// it, with epoch 0 (never rendered: not counted) among them and epochs that share the census's
+// buckets (512 with 0; epochs spread over 200 and over 900 changes).
+TEST(Reproject, TheCensusCountsEveryEpochShown) {
+  const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const CameraBasis b = basis({1.2f, 0.3f, 3.5f}, {0.8f, 0.2f, 0.0f});
+  for (const uint32_t span : {200u, 900u}) {
+    SCOPED_TRACE("epochs over " + std::to_string(span) + " changes");
+    Synthetic from = render(a, true);
+    for (size_t i = 0; i < from.world.size(); i += 11) from.world[i].object = kPointNone;
+    from.encode();
+    for (size_t i = 0; i < from.px.size(); ++i)  // 0, 512, and others spread over `span` changes
+      from.px[i].epoch = i % 7 == 0 ? 0u : i % 7 == 1 ? 512u : 500u + uint32_t(i * 37 % 97) * (span / 100u);
+    Synthetic to = from;
+    Reprojector r;
+    EpochCensus census;
+    census.clear();
+    r.run(a, b, from.image(), to.image(), true, 3, &census);
+    EpochCensus expected;
+    expected.clear();
+    for (const DisplayPixel& p : to.px) expected.add(p.epoch);
+    size_t shown = 0;
+    for (const DisplayPixel& p : to.px) {
+      EXPECT_EQ(census.of(p.epoch), expected.of(p.epoch)) << "epoch " << p.epoch;
+      shown += p.epoch == 512u;
+    }
+    EXPECT_GT(shown, 0u);
+    EXPECT_EQ(census.of(512u), shown);
+    EXPECT_EQ(census.of(0u), 0u);
+  }
+}
+
 // The display keeps its pixels in the engine's slot order (shuffled 64-pixel chunks of a Hilbert
 // line, dealt to threads); the gather then walks pixels and slots in two passes. The image must
 // be the one reprojected in pixel order, each pixel in its slot.
