@@ -108,7 +108,7 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i fraction = _mm512_set1_epi32(int(kViewFractionMask)), width = _mm512_set1_epi32(w);
   const __m512 half = _mm512_set1_ps(0.5f), step = _mm512_set1_ps(kViewFractionStep);
-  const __m512 zero = _mm512_setzero_ps(), scale = _mm512_set1_ps(32768.0f);
+  const __m512 zero = _mm512_setzero_ps(), scale = _mm512_set1_ps(kViewFractionScale);
   const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
   const __m512i sky = _mm512_set1_epi32(int(kViewSky));
   alignas(64) uint32_t target[16];
@@ -334,7 +334,8 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   // Forward splat: each pixel's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays). Points lie on their pixel centre's ray
   // (trace_sample), so each pixel moves by its centre's motion. An unmarked pixel's point is the
-  // engine's newest, copied here for the gather below.
+  // engine's newest (world space, projected by splat_one); where each source landed is kept in
+  // moved_ for the gather.
   const ViewMove move(before, after);
   if (moved_.size() < n) moved_.resize(n);
   size_t p0 = 0;

@@ -130,8 +130,8 @@ class Reprojector {
   // The scalar splat of pixel p: marked, its ViewPoint moved; unmarked, the engine's point.
   void splat_one(const ViewMove& move, const SlotImage& from, size_t p, int w);
   void cracks4(int w, int h);
-  // The gather (reproject_gather.cpp): `to`'s points, marks and pixels from the keys; its AVX-512
-  // pass by pixel.
+  // The gather (reproject_gather.cpp): `to`'s points, marks and pixels from the keys; its pass
+  // by pixel in AVX-512 (16 pixels a step) and AVX2 (8), adding the marks' counts.
   ReprojectStats gather(const SlotImage& from, const SlotImage& to, bool world_moves, EpochCensus* census);
   size_t places16(const SlotImage& from, const SlotImage& to, bool world_moves, size_t count[4]);
   size_t places8(const SlotImage& from, const SlotImage& to, bool world_moves, size_t count[4]);

@@ -41,7 +41,7 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i fraction = _mm256_set1_epi32(int(kViewFractionMask)), width = _mm256_set1_epi32(w);
   const __m256 half = _mm256_set1_ps(0.5f), step = _mm256_set1_ps(kViewFractionStep);
-  const __m256 zero = _mm256_setzero_ps(), scale = _mm256_set1_ps(32768.0f);
+  const __m256 zero = _mm256_setzero_ps(), scale = _mm256_set1_ps(kViewFractionScale);
   const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256i sky = _mm256_set1_epi32(int(kViewSky));
   alignas(32) uint32_t target[8];

@@ -59,10 +59,11 @@ inline void TickSink::show(DisplayPixel& m, PlaceRecord& rec, const PixelSnapsho
 // point now projects (the render cache): blended there if nothing nearer is shown, never at its
 // own pixel, which shows moved content by now.
 void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
-  float px, py, depth;
   const CameraBasis& b = d.reproject_basis;
-  if (!project_point(b, point, px, py, depth)) return;
-  const size_t pixel = size_t(int(py)) * size_t(image->width) + size_t(int(px));
+  size_t pixel = 0;
+  const ViewPoint moved = to_view(b, point, pixel);  // where it lands now, as the display holds it
+  if (view_kind(moved.bits) == kViewNone) return;
+  const float depth = moved.depth;
   const size_t slot = image->slot_of(pixel);
   uint8_t& mark = d.marks[pixel];
   // A marked pixel shows moved content with its moved point (its depth in this camera); an
@@ -86,7 +87,7 @@ void TickSink::redirect(const PixelSnapshot& u, const ScenePoint& point) {
   m.rgb[0] = c.x;
   m.rgb[1] = c.y;
   m.rgb[2] = c.z;
-  d.points[pixel] = {depth, view_bits(px, py, view_kind_of(point.object))};
+  d.points[pixel] = moved;
   mark = kMarkMoved;
   ++d.reproject_totals.redirected;
   mark_dirty(slot, 1);

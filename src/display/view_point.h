@@ -65,6 +65,7 @@ static_assert(sizeof(ViewPoint) == 8, "eight pixels' points per cache line");
 inline constexpr uint32_t kViewFractionBits = 15;
 inline constexpr uint32_t kViewFractionMask = (1u << kViewFractionBits) - 1u;
 inline constexpr float kViewFractionStep = 0x1p-15f;
+inline constexpr float kViewFractionScale = 32768.0f;  // 1 / kViewFractionStep
 inline constexpr uint32_t kViewKindShift = 30;
 // A pixel's centre: where reprojection puts a copy of a neighbour's content.
 inline constexpr uint32_t kViewCentre = (1u << 14) | (1u << 14) << kViewFractionBits;
@@ -75,8 +76,8 @@ inline uint32_t view_kind(uint32_t bits) { return bits >> kViewKindShift; }
 // fractions of px and py past their pixel's corner (exact: px - trunc(px) rounds nothing, and
 // times 2^15 neither).
 inline uint32_t view_bits(float px, float py, uint32_t kind) {
-  const uint32_t qx = uint32_t((px - float(int(px))) * 32768.0f);
-  const uint32_t qy = uint32_t((py - float(int(py))) * 32768.0f);
+  const uint32_t qx = uint32_t((px - float(int(px))) * kViewFractionScale);
+  const uint32_t qy = uint32_t((py - float(int(py))) * kViewFractionScale);
   return qx | qy << kViewFractionBits | kind << kViewKindShift;
 }
 
