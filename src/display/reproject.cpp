@@ -213,30 +213,32 @@ void Reprojector::crack(uint32_t t, int w, int h) {
 }
 
 #if defined(__AVX512F__)
-// crack() for every hole, eight pixels of a row a step away from the border (the per-hole
-// branches mispredicted): the same float compares and depth-bit picks, so the same fills. A
-// fifth of the pixels are holes after a small turn (the splat's collisions), so the holes' marks,
-// fills and leftovers are stored a vector at a time, and a row's fills are applied once the next
-// row, the last to read its keys, is done (while they are still in cache).
-void Reprojector::cracks8(int w, int h) {
+// crack() for every hole, sixteen pixels of a row a step away from the border (the per-hole
+// branches mispredicted). The keys' depth halves are compared sixteen to a vector with the same
+// float compares as crack(): the hole key's depth bits are a NaN, which fails them, so a hole
+// neighbour never counts. The same fills. A fifth of the pixels are
+// holes after a small turn (the splat's collisions), so the holes' marks, fills and leftovers are
+// stored a vector at a time, and a row's fills are applied once the next row, the last to read
+// its keys, is done (while they are still in cache).
+void Reprojector::cracks16(int w, int h) {
   const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
-  const __m256 slack = _mm256_set1_ps(1.05f);
-  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const auto depth = [](__m512i keys) { return _mm256_castsi256_ps(_mm512_cvtepi64_epi32(_mm512_srli_epi64(keys, 32))); };
+  const __m512 slack = _mm512_set1_ps(1.05f);
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   const auto scalar = [&](size_t t) {
     if (key_[t] == kHole) crack(uint32_t(t), w, h);
   };
-  const size_t groups = size_t(w + 7) / 8;
+  const size_t groups = size_t(w + 15) / 16;
   for (int b = 0; b < 2; ++b) {
-    row_fill_[b].resize(groups * 8);
-    row_found_[b].assign(groups, 0);
+    row_fill_[b].resize(groups * 16);
+    row_found_[b].assign(groups * 2, 0);
   }
   // Row y's interior fills, from row_fill_[y & 1] where row_found_ says, once row y + 1 is done.
   const auto apply = [&](int y) {
     uint8_t* found = row_found_[y & 1].data();
     const uint64_t* fill = row_fill_[y & 1].data();
     const size_t row = size_t(y) * size_t(w);
-    for (size_t g = 0; g < groups; ++g) {
+    for (size_t g = 0; g < 2 * groups; ++g) {
       if (!found[g]) continue;
       _mm512_mask_storeu_epi64(&key_[row + 1 + 8 * g], __mmask8(found[g]), _mm512_loadu_si512(fill + 8 * g));
       found[g] = 0;
@@ -256,37 +258,62 @@ void Reprojector::cracks8(int w, int h) {
       uint8_t* marks = marks_.data();
       uint32_t* next = next_.data();
       uint64_t* fill_row = row_fill_[y & 1].data();
-      for (int x = 1; x < w - 1; x += 8) {
+      for (int x = 1; x < w - 1; x += 16) {
         const size_t t = row + size_t(x);
         // The next row is read only around holes (sparse masked loads the hardware prefetchers do
         // not follow) and was last touched by the splat: ask for it 64 pixels ahead.
         if (t + size_t(w) + 64 < end) __builtin_prefetch(&keys[t + size_t(w) + 64]);
-        const __mmask8 lanes = __mmask8(w - 1 - x >= 8 ? 0xffu : (1u << (w - 1 - x)) - 1u);
-        const __mmask8 holes = _mm512_mask_cmpeq_epu64_mask(lanes, _mm512_maskz_loadu_epi64(lanes, &keys[t]), hole);
+        const __mmask16 lanes = __mmask16(w - 1 - x >= 16 ? 0xffffu : (1u << (w - 1 - x)) - 1u);
+        const __mmask8 lanes_lo = __mmask8(lanes), lanes_hi = __mmask8(lanes >> 8);
+        const __mmask16 holes = __mmask16(
+            _mm512_mask_cmpeq_epu64_mask(lanes_lo, _mm512_maskz_loadu_epi64(lanes_lo, &keys[t]), hole) |
+            _mm512_mask_cmpeq_epu64_mask(lanes_hi, _mm512_maskz_loadu_epi64(lanes_hi, &keys[t + 8]), hole) << 8);
         if (!holes) continue;
-        __m512i best = hole;
-        __mmask8 found = 0;
+        const __mmask8 holes_lo = __mmask8(holes), holes_hi = __mmask8(holes >> 8);
+        // The sixteen keys at offset `off` from the holes (kHole where none is loaded) and their depths.
+        struct Keys {
+          __m512i lo, hi;
+          __m512 depth;
+        };
+        const auto keys_at = [&](ptrdiff_t off) {
+          const uint64_t* at = &keys[size_t(ptrdiff_t(t) + off)];
+          Keys k{_mm512_mask_loadu_epi64(hole, holes_lo, at), _mm512_mask_loadu_epi64(hole, holes_hi, at + 8), {}};
+          k.depth = _mm512_castsi512_ps(_mm512_permutex2var_epi32(k.lo, odd, k.hi));
+          return k;
+        };
+        __m512i best_depth = _mm512_setzero_si512(), best_lo = hole, best_hi = hole;
+        __mmask16 found = 0;
         for (const auto& d : kOpposite) {
           const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
-          const __m512i kp = _mm512_maskz_loadu_epi64(holes, &keys[size_t(ptrdiff_t(t) + off)]);
-          const __m512i kq = _mm512_maskz_loadu_epi64(holes, &keys[size_t(ptrdiff_t(t) - off)]);
-          __mmask8 ok = _mm512_mask_cmpneq_epu64_mask(holes, kp, hole) & _mm512_cmpneq_epu64_mask(kq, hole);
-          const __m256 dp = depth(kp), dq = depth(kq);
-          ok &= __mmask8(~_mm256_cmp_ps_mask(_mm256_max_ps(dp, dq), _mm256_mul_ps(_mm256_min_ps(dp, dq), slack), _CMP_GT_OQ));
-          const __m512i f = _mm512_mask_blend_epi64(_mm256_cmp_ps_mask(dp, dq, _CMP_GE_OQ), kq, kp);
-          const __mmask8 better = ok & __mmask8(~found | _mm512_cmpgt_epu64_mask(_mm512_srli_epi64(f, 32), _mm512_srli_epi64(best, 32)));
-          best = _mm512_mask_mov_epi64(best, better, f);
+          const Keys p = keys_at(off), q = keys_at(-off);
+          const __m512 dp = p.depth, dq = q.depth;
+          // crack()'s max(dp, dq) <= min(dp, dq) * 1.05 for positive depths; false where either is a hole.
+          const __mmask16 ok = _mm512_mask_cmp_ps_mask(holes, dp, _mm512_mul_ps(dq, slack), _CMP_LE_OQ) &
+                               _mm512_cmp_ps_mask(dq, _mm512_mul_ps(dp, slack), _CMP_LE_OQ);
+          // The farther of the pair (p on a tie), as crack(): positive depths order as their bits.
+          const __m512i ip = _mm512_castps_si512(dp), iq = _mm512_castps_si512(dq);
+          const __mmask16 take_p = _mm512_cmpge_epu32_mask(ip, iq);
+          const __m512i f = _mm512_max_epu32(ip, iq);
+          const __mmask16 better = ok & __mmask16(~found | _mm512_cmpgt_epu32_mask(f, best_depth));
+          best_depth = _mm512_mask_mov_epi32(best_depth, better, f);
+          // The whole keys (depth and source) by halves: a gather of the sources at the end was
+          // slower (gathers are microcoded on some cores).
+          const __mmask16 from_p = better & take_p, from_q = better & __mmask16(~take_p);
+          best_lo = _mm512_mask_mov_epi64(_mm512_mask_mov_epi64(best_lo, __mmask8(from_p), p.lo), __mmask8(from_q), q.lo);
+          best_hi = _mm512_mask_mov_epi64(_mm512_mask_mov_epi64(best_hi, __mmask8(from_p >> 8), p.hi),
+                                          __mmask8(from_q >> 8), q.hi);
           found |= better;
         }
-        const size_t g = size_t(x - 1) / 8;
-        _mm512_storeu_si512(fill_row + 8 * g, best);
-        found_row[g] = found;
+        const size_t g = size_t(x - 1) / 16;
+        _mm512_storeu_si512(fill_row + 16 * g, best_lo);
+        _mm512_storeu_si512(fill_row + 16 * g + 8, best_hi);
+        const uint16_t found_bits = uint16_t(found);
+        std::memcpy(found_row + 2 * g, &found_bits, sizeof found_bits);
         _mm_mask_storeu_epi8(&marks[t], found, _mm_set1_epi8(char(kMarkFilled)));
-        const __mmask8 left = holes & __mmask8(~found);
-        // Compressed in a register, stored whole (next_ has 8 spare): a compressing store to
+        const __mmask16 left = holes & __mmask16(~found);
+        // Compressed in a register, stored whole (next_ has 16 spare): a compressing store to
         // memory is microcoded on some cores (Zen 4).
-        const __m256i at = _mm256_add_epi32(lane, _mm256_set1_epi32(int(t)));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(&next[left_count]), _mm256_maskz_compress_epi32(left, at));
+        _mm512_storeu_si512(&next[left_count], _mm512_maskz_compress_epi32(left, _mm512_add_epi32(lane, _mm512_set1_epi32(int(t)))));
         left_count += size_t(__builtin_popcount(left));
       }
       next_count_ = left_count;
@@ -349,11 +376,11 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
   fills_.clear();
-  if (next_.size() < n + 8) next_.resize(n + 8);  // holes left for the disocclusion search: next_[0, next_count_)
+  if (next_.size() < n + 16) next_.resize(n + 16);  // holes left for the disocclusion search: next_[0, next_count_)
   next_count_ = 0;
 #if defined(__AVX512F__)
   if (vectorized_ && w >= 3 && h >= 3) {
-    cracks8(w, h);
+    cracks16(w, h);
   } else
 #elif defined(__AVX2__)
   if (vectorized_ && w >= 3 && h >= 3) {

@@ -121,8 +121,8 @@ class Reprojector {
   bool vector_window(int r) const;
   size_t splat16(const ViewMove& move, const SlotImage& from, int w);
   void crack(uint32_t t, int w, int h);
-  void cracks8(int w, int h);
-  // The AVX2 forms of splat16, cracks8 and the vector window (reproject_avx2.cpp), for cores
+  void cracks16(int w, int h);
+  // The AVX2 forms of splat16, cracks16 and the vector window (reproject_avx2.cpp), for cores
   // without AVX-512.
   size_t splat8(const ViewMove& move, const SlotImage& from, int w);
   // Lands source pixel p (its point already known) and records where (moved_).
@@ -153,8 +153,8 @@ class Reprojector {
   std::vector<uint8_t> marks_;   // by pixel: kMarkMoved, or how a hole was filled
   std::vector<uint32_t> next_;   // holes (nothing landed) that are no crack: the first next_count_
   size_t next_count_ = 0;
-  std::vector<uint64_t> row_fill_[2];  // cracks8 (cracks4): a row's fill keys, 8 (4) per group
-  std::vector<uint8_t> row_found_[2];  // cracks8 (cracks4): which of a group's pixels were filled
+  std::vector<uint64_t> row_fill_[2];  // cracks16 (cracks4): a row's fill keys, 16 (4) per group
+  std::vector<uint8_t> row_found_[2];  // cracks16 (cracks4): which of a group's pixels were filled (a byte per 8)
   std::vector<Fill> fills_;      // a pass's fills, applied together after it
   std::vector<uint32_t> source_slot_;  // by pixel: the slot of `from` the gather copies
   // By source pixel of `from`, where its point landed in `after`: view_bits (fractions and kind);
