@@ -356,8 +356,15 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     mark_time = now;
   };
   times_ = {};
-  key_.assign(n + 1, kHole);  // and a spare the vector splats write where a point lands nowhere
-  marks_.assign(n, kMarkMoved);
+  // The keys and marks start as holes and moves; the last run's gather left them so (keys_clear_),
+  // which saves the two arrays' fills here. The spare key past the image takes the vector
+  // splats' lanes that land nowhere.
+  if (!keys_clear_ || key_.size() != n + 1 || marks_.size() != n) {
+    key_.assign(n + 1, kHole);
+    marks_.assign(n, kMarkMoved);
+  }
+  key_[n] = kHole;
+  keys_clear_ = false;
   // Forward splat: each pixel's point lands in one pixel; the nearest wins (the sky loses to any
   // surface, and between two sky points the first stays). Points lie on their pixel centre's ray
   // (trace_sample), so each pixel moves by its centre's motion. An unmarked pixel's point is the

@@ -48,10 +48,11 @@ size_t Reprojector::places16(const SlotImage& from, const SlotImage& to, bool wo
   const __m512i bit[4] = {_mm512_set1_epi32(kMarkMoved), _mm512_set1_epi32(kMarkFilled),
                           _mm512_set1_epi32(kMarkDisoccluded), stale};
   // Locals: through the members, every store would make the loop load the data pointers again.
-  const uint64_t* keys = key_.data();
-  const uint8_t* marks = marks_.data();
+  uint64_t* keys = key_.data();
+  uint8_t* marks = marks_.data();
   const uint32_t* moved = moved_.data();
   const uint32_t* slot_of = from.slot_of;
+  const __m128i moved_marks = _mm_set1_epi8(char(kMarkMoved));
   uint32_t* source_slot = source_slot_.data();
   uint8_t* out_marks = to.marks;
   int32_t* out_points = reinterpret_cast<int32_t*>(to.points);
@@ -70,6 +71,10 @@ size_t Reprojector::places16(const SlotImage& from, const SlotImage& to, bool wo
     const __m512i source = _mm512_mask_add_epi32(_mm512_permutex2var_epi32(k0, even, k1), is_hole,
                                                  _mm512_set1_epi32(int(t)), lane);
     __m512i mark = _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(marks + t)));
+    // Read for the last time: cleared for the next run here, while in cache (keys_clear_).
+    _mm512_storeu_si512(keys + t, hole);
+    _mm512_storeu_si512(keys + t + 8, hole);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(marks + t), moved_marks);
     mark = _mm512_mask_mov_epi32(mark, is_hole, unknown);
     const __mmask16 known = _mm512_testn_epi32_mask(mark, _mm512_set1_epi32(kMarkUnknown));
     const __m512i landed = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), known, source, moved, 4);
@@ -103,8 +108,8 @@ size_t Reprojector::places8(const SlotImage& from, const SlotImage& to, bool wor
   const __m256i moving = _mm256_set1_epi32(int(kViewMoving)), stale = _mm256_set1_epi32(kMarkStale);
   const __m256i bit[4] = {_mm256_set1_epi32(kMarkMoved), _mm256_set1_epi32(kMarkFilled),
                           _mm256_set1_epi32(kMarkDisoccluded), stale};
-  const uint64_t* keys = key_.data();
-  const uint8_t* marks = marks_.data();
+  uint64_t* keys = key_.data();
+  uint8_t* marks = marks_.data();
   const int* moved = reinterpret_cast<const int*>(moved_.data());
   const int* slot_of = reinterpret_cast<const int*>(from.slot_of);
   uint32_t* source_slot = source_slot_.data();
@@ -125,6 +130,9 @@ size_t Reprojector::places8(const SlotImage& from, const SlotImage& to, bool wor
     const __m256i is_hole = _mm256_and_si256(_mm256_cmpeq_epi32(source, ones), _mm256_cmpeq_epi32(depth_bits, ones));
     source = _mm256_blendv_epi8(source, _mm256_add_epi32(_mm256_set1_epi32(int(t)), lane), is_hole);
     __m256i mark = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(marks + t)));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(keys + t), ones);  // cleared for the next run (keys_clear_)
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(keys + t + 4), ones);
+    std::memset(marks + t, kMarkMoved, 8);
     mark = _mm256_blendv_epi8(mark, unknown, is_hole);
     const __m256i known = _mm256_cmpeq_epi32(_mm256_and_si256(mark, unknown_bit), zero);
     const __m256i landed = _mm256_mask_i32gather_epi32(zero, moved, source, known, 4);
@@ -164,6 +172,8 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
     const uint64_t key = key_[t];
     uint32_t source = uint32_t(key);
     uint8_t mark = marks_[t];
+    key_[t] = kHole;  // read for the last time: cleared for the next run (keys_clear_)
+    marks_[t] = kMarkMoved;
     if (key == kHole) {  // nothing reached it: its old content, marked as a guess
       source = uint32_t(t);
       mark = kMarkDisoccluded | kMarkUnknown;
@@ -222,6 +232,7 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
       to.px[t] = from.px[place(t)];
       count_epoch(to.px[t].epoch, t);
     }
+    keys_clear_ = true;
     times_.ms[ReprojectTimes::pixel_pass] = ms_since(mark_time);
   } else {
     // Two passes: points and marks by pixel, then the pixels by slot. One walk doing both (either
@@ -238,6 +249,7 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
       FRAMELESS_FETCH_SOURCE(t)
       source_slot_[t] = place(t);
     }
+    keys_clear_ = true;
     times_.ms[ReprojectTimes::pixel_pass] = ms_since(mark_time);
     // Slots stream; the source slot of the pixel kAhead slots on is fetched early, and its
     // content kAhead / 2 slots on.
