@@ -21,15 +21,6 @@ inline uint32_t zero_bytes(const uint8_t* p) {
   return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))) & 0xffu;
 }
 
-// The depths of four keys (their high halves), as floats.
-inline __m128 depths(__m256i keys) {
-  const __m256i odd = _mm256_permutevar8x32_epi32(keys, _mm256_setr_epi32(1, 3, 5, 7, 1, 3, 5, 7));
-  return _mm_castsi128_ps(_mm256_castsi256_si128(odd));
-}
-
-// Four 32-bit lane masks widened to four 64-bit lane masks.
-inline __m256i widen(__m128 mask) { return _mm256_cvtepi32_epi64(_mm_castps_si128(mask)); }
-
 }  // namespace
 
 // splat16 eight pixels a step: two vectors of four view points split into depths and bits,
@@ -135,7 +126,8 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
 // the next row, the last to read its keys, is done (crack()'s fills, on the border, after the pass).
 void Reprojector::cracks4(int w, int h) {
   const __m256i hole = _mm256_set1_epi64x(int64_t(kHole));
-  const __m128 slack = _mm_set1_ps(1.05f);
+  const __m256 slack = _mm256_set1_ps(1.05f);
+  const __m256 depth_half = _mm256_castsi256_ps(_mm256_set1_epi64x(int64_t(0xffffffff00000000ull)));
   const size_t end = size_t(h) * size_t(w);
   const size_t groups = size_t(w + 3) / 4;
   for (int b = 0; b < 2; ++b) {
@@ -199,21 +191,27 @@ void Reprojector::cracks4(int w, int h) {
       if (t + size_t(w) + 64 < end) __builtin_prefetch(&keys[t + size_t(w) + 64]);
       const __m256i holes = _mm256_cmpeq_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[t])), hole);
       if (_mm256_testz_si256(holes, holes)) continue;
+      // Each lane's answers live in bit 63 (what blendv_pd and movemask_pd read): the compares
+      // run on the keys in place, their depth halves being the odd floats, so no shuffles.
       __m256i best = hole, found = _mm256_setzero_si256();
       for (const auto& d : kOpposite) {
         const ptrdiff_t off = ptrdiff_t(d[1]) * w + d[0];
         const __m256i kp = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[size_t(ptrdiff_t(t) + off)]));
         const __m256i kq = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&keys[size_t(ptrdiff_t(t) - off)]));
-        __m256i ok = _mm256_andnot_si256(_mm256_cmpeq_epi64(kp, hole), holes);
-        ok = _mm256_andnot_si256(_mm256_cmpeq_epi64(kq, hole), ok);
-        const __m128 dp = depths(kp), dq = depths(kq);
-        // An edge between two surfaces, not a crack.
-        ok = _mm256_andnot_si256(widen(_mm_cmp_ps(_mm_max_ps(dp, dq), _mm_mul_ps(_mm_min_ps(dp, dq), slack), _CMP_GT_OQ)), ok);
-        const __m256i fill = _mm256_blendv_epi8(kq, kp, widen(_mm_cmp_ps(dp, dq, _CMP_GE_OQ)));
+        // The depths with the sources zeroed (a source's bits are a subnormal float, whose
+        // multiply is slow on some cores); a hole's depth is a NaN, which fails every compare.
+        const __m256 dp = _mm256_and_ps(_mm256_castsi256_ps(kp), depth_half);
+        const __m256 dq = _mm256_and_ps(_mm256_castsi256_ps(kq), depth_half);
+        // crack()'s max(dp, dq) <= min(dp, dq) * 1.05 for positive depths: not an edge between two surfaces.
+        const __m256 near = _mm256_and_ps(_mm256_cmp_ps(dp, _mm256_mul_ps(dq, slack), _CMP_LE_OQ),
+                                          _mm256_cmp_ps(dq, _mm256_mul_ps(dp, slack), _CMP_LE_OQ));
+        const __m256i ok = _mm256_and_si256(_mm256_castps_si256(near), holes);
+        const __m256i fill = _mm256_castpd_si256(_mm256_blendv_pd(
+            _mm256_castsi256_pd(kq), _mm256_castsi256_pd(kp), _mm256_castps_pd(_mm256_cmp_ps(dp, dq, _CMP_GE_OQ))));
         const __m256i farther = _mm256_cmpgt_epi64(_mm256_srli_epi64(fill, 32), _mm256_srli_epi64(best, 32));
         // Taken where none was found yet or this pair's fill is farther.
         const __m256i better = _mm256_andnot_si256(_mm256_andnot_si256(farther, found), ok);
-        best = _mm256_blendv_epi8(best, fill, better);
+        best = _mm256_castpd_si256(_mm256_blendv_pd(_mm256_castsi256_pd(best), _mm256_castsi256_pd(fill), _mm256_castsi256_pd(better)));
         found = _mm256_or_si256(found, better);
       }
       const uint32_t hole_lanes = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(holes)));
