@@ -214,12 +214,12 @@ void Reprojector::crack(uint32_t t, int w, int h) {
 
 #if defined(__AVX512F__)
 // crack() for every hole, sixteen pixels of a row a step away from the border (the per-hole
-// branches mispredicted). The keys' depth halves are compared sixteen to a vector with the same
-// float compares as crack(): the hole key's depth bits are a NaN, which fails them, so a hole
-// neighbour never counts. The same fills. A fifth of the pixels are
-// holes after a small turn (the splat's collisions), so the holes' marks, fills and leftovers are
-// stored a vector at a time, and a row's fills are applied once the next row, the last to read
-// its keys, is done (while they are still in cache).
+// branches mispredicted), with the same fills. The keys' depth halves are compared sixteen to a
+// vector with crack()'s float compares: a hole key's depth bits are a NaN, which fails them, so a
+// hole neighbour never counts. A fifth of the pixels are holes after a small turn (the splat's
+// collisions), so the holes' marks, fills and leftovers are stored a vector at a time, and a
+// row's fills are applied once the next row, the last to read its keys, is done (while they are
+// still in cache).
 void Reprojector::cracks16(int w, int h) {
   const __m512i hole = _mm512_set1_epi64(int64_t(kHole));
   const __m512 slack = _mm512_set1_ps(1.05f);

@@ -146,8 +146,8 @@ class Reprojector {
   // By pixel: the nearest point landed so far as (depth bits << 32 | the pixel of `from` it
   // shows), so the nearest is the smallest key and ties go to the lower pixel; kHole: none.
   std::vector<uint64_t> key_;
-  // Whether the gather left key_ all holes and marks_ all kMarkMoved (it clears
-  // each pixel's after its last read, so run() need not fill them again).
+  // Whether the gather left key_ all holes and marks_ all kMarkMoved (it clears each pixel's
+  // after their last read, so run() need not fill them again).
   bool keys_clear_ = false;
   struct Fill {
     uint32_t pixel;
