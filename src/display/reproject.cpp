@@ -296,8 +296,8 @@ void Reprojector::cracks16(int w, int h) {
           const __m512i f = _mm512_max_epu32(ip, iq);
           const __mmask16 better = ok & __mmask16(~found | _mm512_cmpgt_epu32_mask(f, best_depth));
           best_depth = _mm512_mask_mov_epi32(best_depth, better, f);
-          // The whole keys (depth and source) by halves: a gather of the sources at the end was
-          // slower (gathers are microcoded on some cores).
+          // The whole keys (depth and source) by halves: gathering the sources at the end
+          // measured no faster, and gathers are microcoded on some cores.
           const __mmask16 from_p = better & take_p, from_q = better & __mmask16(~take_p);
           best_lo = _mm512_mask_mov_epi64(_mm512_mask_mov_epi64(best_lo, __mmask8(from_p), p.lo), __mmask8(from_q), q.lo);
           best_hi = _mm512_mask_mov_epi64(_mm512_mask_mov_epi64(best_hi, __mmask8(from_p >> 8), p.hi),
