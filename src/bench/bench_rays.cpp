@@ -20,6 +20,7 @@
 #include "bench/bench_options.h"
 #include "bench/bench_report.h"
 #include "core/accel/instance.h"
+#include "core/accel/instance_top.h"
 #include "core/base/rng.h"
 #include "core/geometry/shading_frame.h"
 #include "core/geometry/surface.h"
@@ -93,7 +94,10 @@ int run_rays(const RaysOptions& a) {
   AccelConfig parallel_config;
   parallel_config.parallel_for = thread_parallel_for(threads);
   scene->accel.build(scene->geometry, parallel_config);
-  if (a.opaque) scene->accel.set_alpha_test({});  // as Embree sees the scene: no cut-outs
+  if (a.opaque) {  // as Embree sees the scene: no cut-outs, on flat geometry or instanced meshes
+    scene->accel.set_alpha_test({});
+    for (const auto& mesh : scene->geometry.instance_meshes) mesh->accel.set_alpha_test({});
+  }
   const AccelStats stats = scene->accel.stats();
   const Geometry& geom = scene->geometry;
 
@@ -330,11 +334,16 @@ int run_rays(const RaysOptions& a) {
   if (embree_ptr) {
     const EmbreeBench& embree = *embree_ptr;
     if (threads == 1) epn = ep1, e8n = e81, esn = es1, es8n = es81, ebn = eb1, ebsn = ebs1;
-    // Agreement on hit/miss and the hit primitive (edges may legitimately differ).
+    // Agreement on hit/miss, the instance and the hit primitive (edges may legitimately differ).
+    const std::shared_ptr<const InstanceTop> top = accel.instance_top();
+    const auto declared = [&](const Hit& h) {  // our hit's instance as Embree numbers it
+      return h.inst == kInvalidId || !top ? unsigned(RTC_INVALID_GEOMETRY_ID) : top->declared[h.inst];
+    };
     size_t same_hit = 0, same_occ = 0;
     for (size_t i = 0; i < primary.size(); ++i)
       same_hit += (hits[i].valid() == ehits[i].valid()) &&
-                  (!hits[i].valid() || embree.prim_id(ehits[i]) == hits[i].prim);
+                  (!hits[i].valid() ||
+                   (declared(hits[i]) == ehits[i].inst && embree.prim_id(ehits[i], geom) == hits[i].prim));
     for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
     e["version"] = embree.version();
     e["build_ms"] = embree.build_ms();

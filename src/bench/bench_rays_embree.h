@@ -1,6 +1,7 @@
 // Embree 3 reference for `frameless bench rays` and `bench build`: the same scene and rays through
-// rtcIntersect1 / rtcOccluded1 and 8-wide packets, and its build time with 1 or N build threads;
-// built on the main thread, queried from bench threads.
+// rtcIntersect1 / rtcOccluded1 and 8-wide packets (instances as Embree's own instances, for rays),
+// and its build time with 1 or N build threads; built on the main thread, queried from bench
+// threads.
 #pragma once
 #include <embree3/rtcore.h>
 
@@ -12,6 +13,9 @@
 #include <string>
 #include <time.h>
 
+#include <vector>
+
+#include "core/accel/instance.h"
 #include "core/scene/scene.h"
 
 namespace frameless::bench {
@@ -20,13 +24,15 @@ struct EmbreeHit {
   float t = kInfinity;
   unsigned geom = RTC_INVALID_GEOMETRY_ID;
   unsigned prim = 0;
+  unsigned inst = RTC_INVALID_GEOMETRY_ID;  // the declared instance (Geometry::instances) hit, if any
   bool valid() const { return geom != RTC_INVALID_GEOMETRY_ID; }
 };
 
 class EmbreeBench {
  public:
-  // Triangles are geometry 0, spheres geometry 1. The device gets `threads` build threads so
-  // its pool does not oversubscribe the machine.
+  // Triangles are geometry 0, spheres geometry 1, declared instance d geometry kFirstInstance + d
+  // (each mesh its own committed scene, as ours is its own BVH). The device gets `threads` build
+  // threads so its pool does not oversubscribe the machine.
   EmbreeBench(const Scene& s, int threads) : num_triangles_(s.geometry.num_triangles()) {
     const std::string config = "threads=" + std::to_string(threads);
     device_ = rtcNewDevice(config.c_str());
@@ -36,7 +42,7 @@ class EmbreeBench {
     }
     rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
     const auto start = std::chrono::steady_clock::now();
-    scene_ = new_scene(device_, s.geometry);
+    scene_ = new_scene(device_, s.geometry, &mesh_scenes_);
     const auto commit = std::chrono::steady_clock::now();
     rtcCommitScene(scene_);
     const auto end = std::chrono::steady_clock::now();
@@ -45,6 +51,7 @@ class EmbreeBench {
   }
   ~EmbreeBench() {
     rtcReleaseScene(scene_);
+    for (RTCScene m : mesh_scenes_) rtcReleaseScene(m);
     rtcReleaseDevice(device_);
   }
   EmbreeBench(const EmbreeBench&) = delete;
@@ -58,7 +65,7 @@ class EmbreeBench {
       set_ray(rh.ray, rays[i]);
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(scene_, &ctx, &rh);
-      hits[i] = {rh.ray.tfar, rh.hit.geomID, rh.hit.primID};
+      hits[i] = {rh.ray.tfar, rh.hit.geomID, rh.hit.primID, instance_of(rh.hit.instID[0])};
     }
   }
 
@@ -80,7 +87,7 @@ class EmbreeBench {
       }
       rtcIntersect8(valid, scene_, &ctx, &rh);
       for (int k = 0; k < 8 && b + k < n; ++k)
-        hits[b + k] = {rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.primID[k]};
+        hits[b + k] = {rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.primID[k], instance_of(rh.hit.instID[0][k])};
     }
   }
 
@@ -114,9 +121,12 @@ class EmbreeBench {
     }
   }
 
-  // Our primitive id convention for an Embree hit.
-  uint32_t prim_id(const EmbreeHit& h) const {
-    return h.geom == 0 ? h.prim : num_triangles_ + h.prim;
+  // Our primitive id convention for an Embree hit (within its mesh for an instance's).
+  uint32_t prim_id(const EmbreeHit& h, const Geometry& g) const {
+    const uint32_t nt = h.inst == RTC_INVALID_GEOMETRY_ID
+                            ? num_triangles_
+                            : g.instance_meshes[g.instances[h.inst].mesh]->geometry.num_triangles();
+    return h.geom == 0 ? h.prim : nt + h.prim;
   }
   // rtcCommitScene alone (the BVH build, Embree's default medium quality); setup_ms: filling
   // Embree's vertex, index and sphere buffers before it (a copy our build does not make).
@@ -178,8 +188,39 @@ class EmbreeBench {
   }
 
  private:
+  static constexpr unsigned kFirstInstance = 2;
+  static unsigned instance_of(unsigned inst_id) {
+    return inst_id == RTC_INVALID_GEOMETRY_ID ? inst_id : inst_id - kFirstInstance;
+  }
+
+  // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed; with
+  // `meshes`, g's instances too (geometry kFirstInstance + d), over mesh scenes committed here and
+  // appended to *meshes (the caller releases them).
+  static RTCScene new_scene(RTCDevice device, const Geometry& g, std::vector<RTCScene>* meshes = nullptr) {
+    RTCScene scene = flat_scene(device, g);
+    if (!meshes || g.instances.empty()) return scene;
+    const size_t first = meshes->size();
+    for (const auto& mesh : g.instance_meshes) {
+      meshes->push_back(flat_scene(device, mesh->geometry));
+      rtcCommitScene(meshes->back());
+    }
+    for (size_t d = 0; d < g.instances.size(); ++d) {
+      const Instance& in = g.instances[d];
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(geo, (*meshes)[first + in.mesh]);
+      float xfm[12];  // columns of m, then t
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) xfm[3 * c + r] = in.to_world.m[c][r];
+      for (int r = 0; r < 3; ++r) xfm[9 + r] = in.to_world.t[r];
+      rtcSetGeometryTransform(geo, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+      rtcCommitGeometry(geo);
+      rtcAttachGeometryByID(scene, geo, kFirstInstance + unsigned(d));
+      rtcReleaseGeometry(geo);
+    }
+    return scene;
+  }
   // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed.
-  static RTCScene new_scene(RTCDevice device, const Geometry& g) {
+  static RTCScene flat_scene(RTCDevice device, const Geometry& g) {
     RTCScene scene = rtcNewScene(device);
     RTCGeometry tri = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -220,6 +261,7 @@ class EmbreeBench {
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
+  std::vector<RTCScene> mesh_scenes_;  // instanced meshes' scenes
   uint32_t num_triangles_ = 0;
   double build_ms_ = 0.0;
   double setup_ms_ = 0.0;

@@ -29,6 +29,23 @@ TEST(BenchRaysCli, JsonReportsTheWorkOfEachKindOfRay) {
   }
 }
 
+// With Embree in the build, instanced scenes are instanced on Embree's side too (its own instance
+// geometry over each mesh's scene), and the two agree on what each primary ray hits: the same
+// instance and primitive. A transform handed over in the wrong layout, or an instance numbered
+// apart from ours, breaks the agreement.
+TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
+  const CommandResult r = run_frameless("bench rays sunflowers:1 --opaque --size 48x48 --reps 1 --threads 1 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.output;
+  if (!j.contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
+  ASSERT_GT(j["instances"].get<int>(), 1);
+  EXPECT_GT(j["primary_hit_fraction"].get<double>(), 0.5);
+  // Rays exactly on a shared edge may go to either triangle: allow one in a hundred.
+  EXPECT_GE(j["embree"]["primary_agreement"].get<double>(), 0.99);
+  EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);
+}
+
 TEST(BenchRaysCli, BadArgumentsAreOneLine) {
   for (const char* args : {"bench rays --reps 0", "bench rays --size 0x5", "bench rays --threads -2",
                            "bench rays no_such_scene.json"}) {
