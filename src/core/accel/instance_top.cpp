@@ -103,32 +103,48 @@ bool walk(const std::vector<Bvh8Node>& nodes, const Ray& ray, Leaf&& leaf, Tmax&
     float t;
   } stack[kStackSize];
   int sp = 0;
-  stack[sp++] = {0, 0, 0.0f};
-  while (sp > 0) {
-    const Entry e = stack[--sp];
-    const float limit = tmax() * kRobustFar;
-    if (e.t > limit) continue;
-    if (e.info != 0) {
-      if (leaf(e.ref, e.info & kLeafCountMask)) return true;
-      continue;
+  uint32_t ref = 0, info = 0;  // the root
+  for (;;) {
+    if (info != 0) {
+      if (leaf(ref, info & kLeafCountMask)) return true;
+    } else {
+      const Bvh8Node& node = nodes[ref];
+      alignas(32) float dist[kBvhWidth];
+      uint32_t mask = intersect_children(node, br, ray.tmin, tmax() * kRobustFar, dist);
+      if (mask & (mask - 1)) {
+        // Two or more: sorted onto the stack in place, nearest on top, and walked from there (a
+        // copy through a scratch array became a memcpy call per node).
+        const int base = sp;
+        for (; mask; mask &= mask - 1) {
+          const int j = __builtin_ctz(mask);
+          const Entry x{node.child[j], node.info[j], dist[j]};
+          int k = sp++;
+          while (k > base && stack[k - 1].t < x.t) stack[k] = stack[k - 1], --k;
+          stack[k] = x;
+        }
+        --sp;
+        ref = stack[sp].ref;
+        info = stack[sp].info;
+        continue;
+      }
+      if (mask) {  // one: descend without the stack
+        const int j = __builtin_ctz(mask);
+        ref = node.child[j];
+        info = node.info[j];
+        continue;
+      }
     }
-    const Bvh8Node& node = nodes[e.ref];
-    alignas(32) float dist[kBvhWidth];
-    uint32_t mask = intersect_children(node, br, ray.tmin, limit, dist);
-    // Far children first onto the stack, so the nearest is walked first.
-    Entry c[kBvhWidth];
-    int m = 0;
-    while (mask) {
-      const int j = __builtin_ctz(mask);
-      mask &= mask - 1;
-      Entry x{node.child[j], node.info[j], dist[j]};
-      int k = m++;
-      while (k > 0 && c[k - 1].t < x.t) c[k] = c[k - 1], --k;
-      c[k] = x;
+    // The nearest pending entry that may still hold a closer hit.
+    for (;;) {
+      if (sp == 0) return false;
+      const Entry& e = stack[--sp];
+      if (e.t <= tmax() * kRobustFar) {
+        ref = e.ref;
+        info = e.info;
+        break;
+      }
     }
-    for (int k = 0; k < m; ++k) stack[sp++] = c[k];
   }
-  return false;
 }
 
 }  // namespace
