@@ -106,8 +106,11 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
   const BoxRay br = make_box_ray(ray);
-  // Sphere-only scenes (up to 35 M spheres) skip the shear set-up and its divisions.
-  const TriangleRay tr = num_tris ? make_triangle_ray(ray) : TriangleRay{};
+  // The shear set-up (two divisions, the lanes' constants) waits for the first triangle test: a
+  // ray through an instance's box often leaves the mesh without one, and sphere-only scenes
+  // never need it.
+  TriangleRay tr;
+  bool tr_ready = false;
   const float tmin = ray.tmin;
   float tmax = ray.tmax;
   // Box entry distances carry rounding error too: compare them against a widened tmax, or a box
@@ -135,7 +138,17 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
     return false;
   };
 #if defined(__AVX2__)
-  const BlockRay block_ray(tr);
+  BlockRay block_ray;
+#endif
+  const auto shear = [&] {
+    if (__builtin_expect(tr_ready, 1)) return;
+    tr = make_triangle_ray(ray);
+#if defined(__AVX2__)
+    block_ray = BlockRay(tr);
+#endif
+    tr_ready = true;
+  };
+#if defined(__AVX2__)
   // The lanes `lanes` of q, lane i holding triangle prim(i) (lanes exactly on an edge go to the
   // scalar test, which decides them in double); true when an any-hit walk is done.
   const auto test_lanes = [&](const LaneTriangle& q, uint32_t lanes, auto prim) {
@@ -177,6 +190,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
         mask &= ~singles;
         if constexpr (kCount) counts->prims += uint64_t(__builtin_popcount(singles));
         const float before = tmax_box;
+        shear();
         if (test_lanes(block_lanes(blocks[node.block], block_ray), singles, [&](int i) { return node.child[i]; }))
           return true;
         // A nearer hit: boxes that start beyond it are left out.
@@ -260,6 +274,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
     } else {
       if constexpr (kCount) counts->prims += info;
       uint32_t k = 0;
+      shear();
 #if defined(__AVX2__)
       // Two or more triangles: up to four at a time in one pass of the lanes' test.
       if (lane_tests)

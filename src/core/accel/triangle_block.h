@@ -47,7 +47,8 @@ inline void prefetch_block(const TriangleBlock* b) {
 // One ray's watertight-test constants, broadcast for the lanes.
 struct BlockRay {
   __m256 ox, oy, oz, neg_sx, neg_sy, sz;
-  int kx, ky, kz;
+  int kx = 0, ky = 1, kz = 2;
+  BlockRay() : ox(_mm256_setzero_ps()), oy(ox), oz(ox), neg_sx(ox), neg_sy(ox), sz(ox) {}
   explicit BlockRay(const TriangleRay& r)
       : ox(_mm256_set1_ps(r.ox)), oy(_mm256_set1_ps(r.oy)), oz(_mm256_set1_ps(r.oz)),
         neg_sx(_mm256_set1_ps(-r.sx)), neg_sy(_mm256_set1_ps(-r.sy)), sz(_mm256_set1_ps(r.sz)),
