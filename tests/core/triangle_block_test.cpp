@@ -47,9 +47,10 @@ struct EightSingles {
 // Compares every lane with intersect_triangle; returns the lanes that hit.
 uint32_t expect_lanes_match(const EightSingles& s, const Ray& ray, float tmin, float tmax) {
   const TriangleRay tr = make_triangle_ray(ray);
+  const BlockRay br(tr);
   __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
   uint32_t redo = 0;
-  const uint32_t hits = lane_hits(block_lanes(s.blocks[0], BlockRay(tr)), BlockRay(tr), 0xffu, tmin, tmax, tv, uv, vv, redo);
+  const uint32_t hits = lane_hits(block_source(s.blocks[0], br), br, 0xffu, tmin, tmax, tv, uv, vv, redo);
   alignas(32) float ts[8], us[8], vs[8];
   _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
   EXPECT_EQ(hits & redo, 0u);
@@ -105,7 +106,7 @@ TEST(TriangleBlock, LeafLanesAnswerAsTheScalarTest) {
     const uint32_t n = uint32_t(round % 4) + 1, lanes = (1u << n) - 1u;
     __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
     uint32_t redo = 0;
-    const uint32_t got = lane_hits(leaf_lanes(tris.data(), n, br), br, lanes, 0.0f, kInfinity, tv, uv, vv, redo);
+    const uint32_t got = lane_hits(leaf_source(tris.data(), n, br), br, lanes, 0.0f, kInfinity, tv, uv, vv, redo);
     alignas(32) float ts[8], us[8], vs[8];
     _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
     ASSERT_EQ((got | redo) & ~lanes, 0u);
@@ -148,7 +149,7 @@ TEST(TriangleBlock, EdgeAndVertexRaysGoToTheScalarTest) {
       __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
       uint32_t redo = 0;
       const BlockRay br(make_triangle_ray(ray));
-      lane_hits(block_lanes(s.blocks[0], br), br, 0xffu, 0.0f, kInfinity, tv, uv, vv, redo);
+      lane_hits(block_source(s.blocks[0], br), br, 0xffu, 0.0f, kInfinity, tv, uv, vv, redo);
       redo_rays += redo != 0;
       // Inside the grid some triangle always takes the ray (watertight), in the vector test or
       // in the scalar test it hands over.

@@ -151,10 +151,10 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
 #if defined(__AVX2__)
   // The lanes `lanes` of q, lane i holding triangle prim(i) (lanes exactly on an edge go to the
   // scalar test, which decides them in double); true when an any-hit walk is done.
-  const auto test_lanes = [&](const LaneTriangle& q, uint32_t lanes, auto prim) {
+  const auto test_lanes = [&](const auto& source, uint32_t lanes, auto prim) {
     __m256 tv = _mm256_setzero_ps(), uv = tv, vv = tv;
     uint32_t redo = 0;
-    uint32_t hits = lane_hits(q, block_ray, lanes, tmin, tmax_box, tv, uv, vv, redo);
+    uint32_t hits = lane_hits(source, block_ray, lanes, tmin, tmax_box, tv, uv, vv, redo);
     if (!(hits | redo)) return false;
     alignas(32) float ts[kBvhWidth], us[kBvhWidth], vs[kBvhWidth];
     if (hits) _mm256_store_ps(ts, tv), _mm256_store_ps(us, uv), _mm256_store_ps(vs, vv);
@@ -191,7 +191,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
         if constexpr (kCount) counts->prims += uint64_t(__builtin_popcount(singles));
         const float before = tmax_box;
         shear();
-        if (test_lanes(block_lanes(blocks[node.block], block_ray), singles, [&](int i) { return node.child[i]; }))
+        if (test_lanes(block_source(blocks[node.block], block_ray), singles, [&](int i) { return node.child[i]; }))
           return true;
         // A nearer hit: boxes that start beyond it are left out.
         if (tmax_box < before && mask)
@@ -280,7 +280,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       if (lane_tests)
         for (; k + 1 < info; k += 4) {
           const uint32_t first = ref + k, n = std::min<uint32_t>(info - k, 4);
-          if (test_lanes(leaf_lanes(leaf_tris + first, n, block_ray), (1u << n) - 1u,
+          if (test_lanes(leaf_source(leaf_tris + first, n, block_ray), (1u << n) - 1u,
                          [&](int i) { return first + uint32_t(i); }))
             return true;
         }

@@ -3,6 +3,7 @@
 // (the leaf-heavy bottom of the tree is where a ray spends its triangle tests). Any thread.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "core/accel/accel_types.h"
@@ -44,29 +45,43 @@ inline void prefetch_block(const TriangleBlock* b) {
 }
 
 #if defined(__AVX2__)
-// One ray's watertight-test constants, broadcast for the lanes.
+// One ray's watertight-test constants, broadcast for the lanes, in the cyclic axes of the
+// dominant one kz (x = kz + 1, y = kz + 2, mod 3): unlike the scalar test, the lanes do not swap
+// x and y for a negative direction. A swap negates u, v, w, det and the distance's numerator
+// exactly (IEEE rounding is symmetric), so t, b1, b2 and every decision come out the same bits.
+// With the axes fixed by kz alone, each of its three values gets code with the rows in place
+// (lane_hits), instead of nine row addresses worked out per ray.
 struct BlockRay {
   __m256 ox, oy, oz, neg_sx, neg_sy, sz;
-  int kx = 0, ky = 1, kz = 2;
-  BlockRay() : ox(_mm256_setzero_ps()), oy(ox), oz(ox), neg_sx(ox), neg_sy(ox), sz(ox) {}
-  explicit BlockRay(const TriangleRay& r)
-      : ox(_mm256_set1_ps(r.ox)), oy(_mm256_set1_ps(r.oy)), oz(_mm256_set1_ps(r.oz)),
-        neg_sx(_mm256_set1_ps(-r.sx)), neg_sy(_mm256_set1_ps(-r.sy)), sz(_mm256_set1_ps(r.sz)),
-        kx(r.kx), ky(r.ky), kz(r.kz) {}
+  int kz = 2;
+  // Unset lanes: a traversal sets them before its first test (the set-up waits for one).
+  BlockRay() : ox(), oy(), oz(), neg_sx(), neg_sy(), sz() {}
+  explicit BlockRay(const TriangleRay& r) : kz(r.kz) {
+    const bool swapped = r.kx != (r.kz == 2 ? 0 : r.kz + 1);
+    ox = _mm256_set1_ps(swapped ? r.oy : r.ox), oy = _mm256_set1_ps(swapped ? r.ox : r.oy);
+    oz = _mm256_set1_ps(r.oz);
+    neg_sx = _mm256_set1_ps(-(swapped ? r.sy : r.sx)), neg_sy = _mm256_set1_ps(-(swapped ? r.sx : r.sy));
+    sz = _mm256_set1_ps(r.sz);
+  }
 };
 
-// Block b's triangles relative to the ray, lane j holding slot j's.
+// Block b's triangles relative to the ray, lane j holding slot j's, for a ray whose dominant
+// axis is K.
+template <int K>
 inline LaneTriangle block_lanes(const TriangleBlock& b, const BlockRay& r) {
+  constexpr int X = (K + 1) % 3, Y = (K + 2) % 3;
   const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(_mm256_load_ps(b.v[3 * k + axis]), o); };
-  return {{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
-          {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
-          {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+  return {{at(0, X, r.ox), at(0, Y, r.oy), at(0, K, r.oz)},
+          {at(1, X, r.ox), at(1, Y, r.oy), at(1, K, r.oz)},
+          {at(2, X, r.ox), at(2, Y, r.oy), at(2, K, r.oz)}};
 }
 
 // Triangles tris[0, n) (1 <= n <= 4, a leaf's, contiguous) relative to the ray in lanes 0..n-1,
 // transposed from their LeafTriangles (gathers are slow on some cores); the other lanes repeat
-// lane 0 and must be left out of the test's lanes.
+// lane 0 and must be left out of the test's lanes. K: the ray's dominant axis.
+template <int K>
 inline LaneTriangle leaf_lanes(const LeafTriangle* tris, uint32_t n, const BlockRay& r) {
+  constexpr int X = (K + 1) % 3, Y = (K + 2) % 3;
   const float* t0 = &tris[0].p[0].x;
   const float *t1 = n > 1 ? &tris[1].p[0].x : t0, *t2 = n > 2 ? &tris[2].p[0].x : t0, *t3 = n > 3 ? &tris[3].p[0].x : t0;
   // Coordinates 0..7 of the four, four lanes a row (rows 4..7 in the upper halves), then 8.
@@ -79,18 +94,35 @@ inline LaneTriangle leaf_lanes(const LeafTriangle* tris, uint32_t n, const Block
                           _mm256_permute2f128_ps(u2, u2, 0x01), _mm256_permute2f128_ps(u3, u3, 0x01),
                           _mm256_setr_ps(t0[8], t1[8], t2[8], t3[8], t0[8], t0[8], t0[8], t0[8])};
   const auto at = [&](int k, int axis, __m256 o) { return _mm256_sub_ps(rows[3 * k + axis], o); };
-  return {{at(0, r.kx, r.ox), at(0, r.ky, r.oy), at(0, r.kz, r.oz)},
-          {at(1, r.kx, r.ox), at(1, r.ky, r.oy), at(1, r.kz, r.oz)},
-          {at(2, r.kx, r.ox), at(2, r.ky, r.oy), at(2, r.kz, r.oz)}};
+  return {{at(0, X, r.ox), at(0, Y, r.oy), at(0, K, r.oz)},
+          {at(1, X, r.ox), at(1, Y, r.oy), at(1, K, r.oz)},
+          {at(2, X, r.ox), at(2, Y, r.oy), at(2, K, r.oz)}};
 }
 
-// The watertight test of the ray against q's lanes in `lanes` (watertight_lanes.h): returns the
-// lanes that hit within [tmin, tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an
-// edge in single precision, for the scalar test.
-inline uint32_t lane_hits(const LaneTriangle& q, const BlockRay& r, uint32_t lanes, float tmin, float tmax,
+// Where lane_hits takes its triangles from: block b, or a leaf's first n triangles.
+inline auto block_source(const TriangleBlock& b, const BlockRay& r) {
+  return [&b, &r](auto k) { return block_lanes<decltype(k)::value>(b, r); };
+}
+inline auto leaf_source(const LeafTriangle* tris, uint32_t n, const BlockRay& r) {
+  return [tris, n, &r](auto k) { return leaf_lanes<decltype(k)::value>(tris, n, r); };
+}
+
+// The watertight test of the ray against the lanes `lanes` of the triangles `source` gives
+// (block_source, leaf_source; watertight_lanes.h): returns the lanes that hit within [tmin,
+// tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an edge in single precision, for
+// the scalar test.
+template <class Source>
+inline uint32_t lane_hits(const Source& source, const BlockRay& r, uint32_t lanes, float tmin, float tmax,
                           __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
-  return watertight_lanes(q, r.neg_sx, r.neg_sy, r.sz, _mm256_set1_ps(tmin), _mm256_set1_ps(tmax), lanes, t, b1, b2,
-                          redo);
+  const auto run = [&](const LaneTriangle& q) {
+    return watertight_lanes(q, r.neg_sx, r.neg_sy, r.sz, _mm256_set1_ps(tmin), _mm256_set1_ps(tmax), lanes, t, b1,
+                            b2, redo);
+  };
+  switch (r.kz) {
+    case 0: return run(source(std::integral_constant<int, 0>()));
+    case 1: return run(source(std::integral_constant<int, 1>()));
+    default: return run(source(std::integral_constant<int, 2>()));
+  }
 }
 #endif
 
