@@ -14,6 +14,7 @@
 #include "core/accel/bvh_build.h"
 #include "core/accel/bvh_build_spheres.h"
 #include "core/accel/instance_top.h"
+#include "core/accel/prefetch_policy.h"
 #include "core/base/huge_pages.h"
 #include "core/geometry/intersect_sphere.h"
 #include "core/geometry/intersect_triangle.h"
@@ -67,6 +68,8 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
   lay_out_leaf_triangles(geom, config, im.leaf_tris);  // after the permutation: in leaf order
   im.blocks = lay_out_triangle_blocks(im.nodes, im.leaf_tris, config);
   im.lane_tests = triangle_lanes_wanted();
+  im.prefetch = prefetch_wanted(im.nodes.size() * sizeof(Bvh8Node) + im.leaf_tris.size() * sizeof(LeafTriangle) +
+                                im.blocks.size() * sizeof(TriangleBlock));
   im.scene_size = 0.0f;  // the root box's largest extent: the union of its children
   if (!im.nodes.empty())
     for (int a = 0; a < 3; ++a) {
@@ -99,7 +102,7 @@ namespace {
 
 template <bool kAnyHit, bool kCount = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_tris,
-              const TriangleBlock* blocks, bool lane_tests, const Geometry& g, const Ray& ray, Hit& hit,
+              const TriangleBlock* blocks, bool lane_tests, bool prefetch, const Geometry& g, const Ray& ray, Hit& hit,
               const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
@@ -181,9 +184,11 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
       // Every entered child is asked for now, so its fetch overlaps this node's work and the
-      // siblings' (incoherent rays wait on each node and leaf in turn otherwise).
-      for (uint32_t m = mask & ~uint32_t(node.singles); m; m &= m - 1)
-        prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m), blocks);
+      // siblings' (incoherent rays wait on each node and leaf in turn otherwise), in a tree too
+      // big for the cache.
+      if (prefetch)
+        for (uint32_t m = mask & ~uint32_t(node.singles); m; m &= m - 1)
+          prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m), blocks);
 #if defined(__AVX2__)
       if (const uint32_t singles = mask & node.singles) {
         // The single-triangle leaves entered, all in one pass (the rest of the node as usual).
@@ -316,7 +321,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);
   else
-    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, hit, impl_->alpha);
+    found = impl_->geom && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, hit, impl_->alpha);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
@@ -325,7 +330,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
   if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
-  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, unused, impl_->alpha))
+  if (impl_->geom && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, unused, impl_->alpha))
     return true;
   return occluded_instances(ray, top);
 }
@@ -333,14 +338,14 @@ bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
   return impl_->geom &&
-         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, hit, impl_->alpha, &counts);
+         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, hit, impl_->alpha, &counts);
 }
 
 bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->occluded(ray, &counts);
   Hit unused;
   return impl_->geom &&
-         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, *impl_->geom, ray, unused, impl_->alpha, &counts);
+         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }

@@ -119,6 +119,7 @@ struct Accel::Impl {
   std::vector<LeafTriangle> leaf_tris;  // by triangle index (leaf order), with the BVH
   std::vector<TriangleBlock> blocks;    // nodes' single-triangle leaves side by side, with the BVH
   bool lane_tests = true;               // leaves of two or more triangles tested in lanes
+  bool prefetch = true;                 // walks ask for entered children ahead (prefetch_policy.h)
   std::unique_ptr<GridAccel> grid;  // the hybrid grid, when chosen
   AccelStats stats;
   AlphaTest alpha;  // opaque == nullptr: no cut-out surfaces

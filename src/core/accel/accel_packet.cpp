@@ -233,7 +233,7 @@ inline uint32_t triangle_lanes(const Packet& p, const Vec3& p0, const Vec3& p1, 
 }
 
 template <bool kAnyHit>
-void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Geometry& g,
+void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool prefetch, const Geometry& g,
                      const Accel::AlphaTest& alpha, const Ray* rays, Packet& p, Hit* hits, bool* occ) {
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
@@ -290,7 +290,7 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const
           l &= lanes_entering(nd, j, p);
           if (l == 0) continue;
         }
-        prefetch_child(nodes, leaf_tris, nd, j);
+        if (prefetch) prefetch_child(nodes, leaf_tris, nd, j);
         PacketEntry x{nd.child[j], nd.info[j], dist[j], l};
         int k = m++;
         while (k > 0 && c[k - 1].t > x.t) c[k] = c[k - 1], --k;
@@ -373,7 +373,7 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTo
     Packet p;
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) hits[i] = Hit{};
-      traverse_packet<false>(im.nodes.data(), im.leaf_tris.data(), *im.geom, im.alpha, rays, p, hits, nullptr);
+      traverse_packet<false>(im.nodes.data(), im.leaf_tris.data(), im.prefetch, *im.geom, im.alpha, rays, p, hits, nullptr);
       if ((top = top_in_use(top)))  // instances ray by ray, in the order a single ray takes
         for (int i = 0; i < n; ++i) intersect_instances(*top, rays[i], hits[i], hits[i].valid());
       return;
@@ -392,7 +392,7 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const Instan
     Packet p;
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) occluded[i] = false;
-      traverse_packet<true>(im.nodes.data(), im.leaf_tris.data(), *im.geom, im.alpha, rays, p, nullptr, occluded);
+      traverse_packet<true>(im.nodes.data(), im.leaf_tris.data(), im.prefetch, *im.geom, im.alpha, rays, p, nullptr, occluded);
       if ((top = top_in_use(top)))
         for (int i = 0; i < n; ++i) occluded[i] = occluded[i] || frameless::occluded_instances(*top, rays[i]);
       return;
