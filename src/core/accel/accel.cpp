@@ -226,21 +226,21 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
           info = node.info[near];
           continue;
         } else {
-          // Two or more: sort near to far, push far ones, descend into the nearest.
-          StackEntry e[kBvhWidth];
-          int n = 0;
-          e[n++] = {node.child[i], node.info[i], dist[i]};
+          // Two or more: sorted onto the stack in place, far to near (an entry goes below those
+          // as near or nearer, so ties keep slot order), then the nearest is popped and walked.
+          const int base = sp;
+          stack[sp++] = {node.child[i], node.info[i], dist[i]};
           do {
             const uint32_t j = uint32_t(__builtin_ctz(mask));
-            StackEntry x{node.child[j], node.info[j], dist[j]};
-            int k = n++;
-            while (k > 0 && e[k - 1].t > x.t) e[k] = e[k - 1], --k;
-            e[k] = x;
+            const StackEntry x{node.child[j], node.info[j], dist[j]};
+            int k = sp++;
+            while (k > base && stack[k - 1].t <= x.t) stack[k] = stack[k - 1], --k;
+            stack[k] = x;
             mask &= mask - 1;
           } while (mask);
-          for (int k = n - 1; k > 0; --k) stack[sp++] = e[k];
-          ref = e[0].ref;
-          info = e[0].info;
+          --sp;
+          ref = stack[sp].ref;
+          info = stack[sp].info;
           continue;
         }
       }

@@ -279,9 +279,9 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool 
       uint32_t mask = packet_children(nd, p, tmax_all, tnv);
       alignas(32) float dist[8];
       _mm256_store_ps(dist, tnv);
-      // Sort near to far (any-hit too: the nearest box most likely blocks), push far first.
-      PacketEntry c[kBvhWidth];
-      int m = 0;
+      // Sorted onto the stack in place, far to near (any-hit too: the nearest box most likely
+      // blocks); an entry goes below those as near or nearer, so ties keep slot order.
+      const int base = sp;
       while (mask) {
         const int j = __builtin_ctz(mask);
         mask &= mask - 1;
@@ -291,12 +291,11 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool 
           if (l == 0) continue;
         }
         if (prefetch) prefetch_child(nodes, leaf_tris, nd, j);
-        PacketEntry x{nd.child[j], nd.info[j], dist[j], l};
-        int k = m++;
-        while (k > 0 && c[k - 1].t > x.t) c[k] = c[k - 1], --k;
-        c[k] = x;
+        const PacketEntry x{nd.child[j], nd.info[j], dist[j], l};
+        int k = sp++;
+        while (k > base && stack[k - 1].t <= x.t) stack[k] = stack[k - 1], --k;
+        stack[k] = x;
       }
-      for (int k = m - 1; k >= 0; --k) stack[sp++] = c[k];
       continue;
     }
     const uint32_t count = e.info & kLeafCountMask;
