@@ -7,13 +7,10 @@
 
 namespace frameless {
 
-size_t last_level_cache_bytes() {
+size_t l2_cache_bytes() {
   static const size_t bytes = [] {
-    for (const int name : {_SC_LEVEL3_CACHE_SIZE, _SC_LEVEL2_CACHE_SIZE}) {
-      const long b = sysconf(name);
-      if (b > 0) return size_t(b);
-    }
-    return size_t(32) << 20;  // what the system does not report: a typical server's share
+    const long b = sysconf(_SC_LEVEL2_CACHE_SIZE);
+    return b > 0 ? size_t(b) : size_t(1) << 20;  // what the system does not report: a typical core's
   }();
   return bytes;
 }
@@ -23,7 +20,7 @@ bool prefetch_wanted(size_t tree_bytes) {
     const char* e = std::getenv("FRAMELESS_PREFETCH");
     return e && (e[0] == '0' || e[0] == '1') && e[1] == 0 ? e[0] - '0' : -1;
   }();
-  return forced >= 0 ? forced == 1 : tree_bytes > last_level_cache_bytes();
+  return forced >= 0 ? forced == 1 : tree_bytes > kPrefetchTreeToL2 * l2_cache_bytes();
 }
 
 }  // namespace frameless
