@@ -33,7 +33,7 @@ class EmbreeBench {
   // Triangles are geometry 0, spheres geometry 1, declared instance d geometry kFirstInstance + d
   // (each mesh its own committed scene, as ours is its own BVH). The device gets `threads` build
   // threads so its pool does not oversubscribe the machine.
-  EmbreeBench(const Scene& s, int threads) : num_triangles_(s.geometry.num_triangles()) {
+  EmbreeBench(const Scene& s, int threads) {
     const std::string config = "threads=" + std::to_string(threads);
     device_ = rtcNewDevice(config.c_str());
     if (!device_) {
@@ -121,12 +121,11 @@ class EmbreeBench {
     }
   }
 
-  // Our primitive id convention for an Embree hit (within its mesh for an instance's).
-  uint32_t prim_id(const EmbreeHit& h, const Geometry& g) const {
-    const uint32_t nt = h.inst == RTC_INVALID_GEOMETRY_ID
-                            ? num_triangles_
-                            : g.instance_meshes[g.instances[h.inst].mesh]->geometry.num_triangles();
-    return h.geom == 0 ? h.prim : nt + h.prim;
+  // Our primitive id convention for an Embree hit on g (within its mesh for an instance's).
+  static uint32_t prim_id(const EmbreeHit& h, const Geometry& g) {
+    const Geometry& hit_geometry =
+        h.inst == RTC_INVALID_GEOMETRY_ID ? g : g.instance_meshes[g.instances[h.inst].mesh]->geometry;
+    return h.geom == 0 ? h.prim : hit_geometry.num_triangles() + h.prim;
   }
   // rtcCommitScene alone (the BVH build, Embree's default medium quality); setup_ms: filling
   // Embree's vertex, index and sphere buffers before it (a copy our build does not make).
@@ -266,7 +265,6 @@ class EmbreeBench {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;  // instanced meshes' scenes
-  uint32_t num_triangles_ = 0;
   double build_ms_ = 0.0;
   double setup_ms_ = 0.0;
   std::atomic<long long> bytes_{0};

@@ -226,16 +226,12 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
           info = node.info[near];
           continue;
         } else {
-          // Two or more: sorted onto the stack in place, far to near (an entry goes below those
-          // as near or nearer, so ties keep slot order), then the nearest is popped and walked.
+          // Two or more: onto the stack far to near, then the nearest is popped and walked.
           const int base = sp;
           stack[sp++] = {node.child[i], node.info[i], dist[i]};
           do {
             const uint32_t j = uint32_t(__builtin_ctz(mask));
-            const StackEntry x{node.child[j], node.info[j], dist[j]};
-            int k = sp++;
-            while (k > base && stack[k - 1].t <= x.t) stack[k] = stack[k - 1], --k;
-            stack[k] = x;
+            push_far_to_near(stack, base, sp, StackEntry{node.child[j], node.info[j], dist[j]});
             mask &= mask - 1;
           } while (mask);
           --sp;

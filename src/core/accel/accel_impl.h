@@ -96,6 +96,16 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 #endif
 }
 
+// Puts x onto the stack above `base` kept far to near (the nearest on top, popped first); x goes
+// below the entries as near or nearer, so ties are walked in slot order. Walks push a node's
+// entered children this way, in place: a copy through a scratch array became a memcpy call.
+template <class Entry>
+inline void push_far_to_near(Entry* stack, int base, int& sp, const Entry& x) {
+  int k = sp++;
+  while (k > base && stack[k - 1].t <= x.t) stack[k] = stack[k - 1], --k;
+  stack[k] = x;
+}
+
 // Asks for child j of `node`, so its fetch overlaps the rest of the node's work: a node's four
 // lines (and its triangle block, given the blocks), or a triangle leaf's first two.
 inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Bvh8Node& node, int j,

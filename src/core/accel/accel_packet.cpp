@@ -279,8 +279,7 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool 
       uint32_t mask = packet_children(nd, p, tmax_all, tnv);
       alignas(32) float dist[8];
       _mm256_store_ps(dist, tnv);
-      // Sorted onto the stack in place, far to near (any-hit too: the nearest box most likely
-      // blocks); an entry goes below those as near or nearer, so ties keep slot order.
+      // Onto the stack far to near (any-hit too: the nearest box most likely blocks).
       const int base = sp;
       while (mask) {
         const int j = __builtin_ctz(mask);
@@ -291,10 +290,7 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool 
           if (l == 0) continue;
         }
         if (prefetch) prefetch_child(nodes, leaf_tris, nd, j);
-        const PacketEntry x{nd.child[j], nd.info[j], dist[j], l};
-        int k = sp++;
-        while (k > base && stack[k - 1].t <= x.t) stack[k] = stack[k - 1], --k;
-        stack[k] = x;
+        push_far_to_near(stack, base, sp, PacketEntry{nd.child[j], nd.info[j], dist[j], l});
       }
       continue;
     }

@@ -112,15 +112,11 @@ bool walk(const std::vector<Bvh8Node>& nodes, const Ray& ray, Leaf&& leaf, Tmax&
       alignas(32) float dist[kBvhWidth];
       uint32_t mask = intersect_children(node, br, ray.tmin, tmax() * kRobustFar, dist);
       if (mask & (mask - 1)) {
-        // Two or more: sorted onto the stack in place, nearest on top, and walked from there (a
-        // copy through a scratch array became a memcpy call per node).
+        // Two or more: onto the stack far to near, and walked from the nearest.
         const int base = sp;
         for (; mask; mask &= mask - 1) {
           const int j = __builtin_ctz(mask);
-          const Entry x{node.child[j], node.info[j], dist[j]};
-          int k = sp++;
-          while (k > base && stack[k - 1].t < x.t) stack[k] = stack[k - 1], --k;
-          stack[k] = x;
+          push_far_to_near(stack, base, sp, Entry{node.child[j], node.info[j], dist[j]});
         }
         --sp;
         ref = stack[sp].ref;
