@@ -10,18 +10,21 @@ namespace {
 
 const bool bench_rays_registered = register_command(
     "bench", "rays",
-    "Primary- and shadow-ray throughput of the BVH (and of Embree when built with it)",
+    "Ray throughput of the BVH per kind of ray, side by side with Embree when built with it; "
+    "several scenes make one table and plot",
     [](CLI::App& app) {
       auto a = std::make_shared<bench::RaysOptions>();
-      app.add_option("scene", a->scene, "built-in name, .json scene or .obj/.ply/.gltf/.glb model")
+      app.add_option("scenes", a->scenes,
+                     "built-in names, .json scenes or .obj/.ply/.gltf/.glb models, measured one after the other")
           ->capture_default_str();
+      app.add_option("--out", a->out, "also write DIR/rays.json, DIR/rays.csv and the ratio plot DIR/rays.png");
       add_shadow_flags(app, a->shadows);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads,
                      "threads for the parallel figures (default: all cores)");
       app.add_option("--reps", a->reps, "repetitions; the best of them is reported")
           ->capture_default_str();
-      app.add_flag("--json", a->json, "print one JSON object instead of a table");
+      app.add_flag("--json", a->json, "print one JSON object instead of a table (several scenes: their objects under \"runs\")");
       app.add_flag("--no-embree", a->no_embree, "skip the Embree comparison (when built with it)");
       app.add_flag("--opaque", a->opaque,
                    "ignore cut-out (alpha) surfaces, as the Embree comparison does");

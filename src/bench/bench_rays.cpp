@@ -76,14 +76,12 @@ struct Timing {
 
 }  // namespace
 
-int run_rays(const RaysOptions& a) {
+int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::ordered_json& j) {
   int width = 0, height = 0;
   std::string error;
   if (!parse_size(a.size, width, height, error)) return report_error(error);
-  if (!valid_threads(a.threads, error)) return report_error(error);
-  if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
-  std::unique_ptr<Scene> scene = load_scene_or_report(a.scene, &a.shadows);
+  std::unique_ptr<Scene> scene = load_scene_or_report(spec, &a.shadows);
   if (!scene) return 2;
   if (!a.camera.apply(scene->camera, error)) return report_error(error);
   const bool progress = show_progress() && !a.json;
@@ -283,8 +281,8 @@ int run_rays(const RaysOptions& a) {
   for (size_t i = 0; i < shadow.size(); ++i) packet_occ_same += occluded[i] == packet_occluded[i];
 
   const size_t prims = geom.num_primitives();
-  nlohmann::ordered_json j;
-  j["scene"] = a.scene;
+  j = nlohmann::ordered_json::object();
+  j["scene"] = spec;
   j["prims"] = prims;
   j["triangles"] = geom.num_triangles();
   j["spheres"] = geom.num_spheres();
@@ -388,12 +386,9 @@ int run_rays(const RaysOptions& a) {
     j["embree"] = e;
   }
 #endif
-  if (a.json) {
-    std::printf("%s\n", j.dump().c_str());
-    return 0;
-  }
+  if (a.json) return 0;  // run_rays prints it
   std::printf("scene %s: %zu primitives (%u triangles, %u spheres), %dx%d, %d threads\n",
-              a.scene.c_str(), prims, geom.num_triangles(), geom.num_spheres(), width, height,
+              spec.c_str(), prims, geom.num_triangles(), geom.num_spheres(), width, height,
               threads);
   if (!geom.instances.empty())
     std::printf("instances: %zu of %zu shared meshes, %llu triangles represented\n",

@@ -1,7 +1,9 @@
 // `frameless bench rays`: primary- and shadow-ray throughput of the BVH (and of Embree when built
-// with it). Its flags are in tools/bench_rays_command.cpp.
+// with it), for one scene or several side by side. Its flags are in tools/bench_rays_command.cpp.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "bench/bench_options.h"
 
@@ -10,7 +12,8 @@ namespace frameless::bench {
 // The defaults are the command's.
 struct RaysOptions {
   ShadowOptions shadows;
-  std::string scene = "bunny";
+  std::vector<std::string> scenes = {"bunny"};
+  std::string out;  // also write DIR/rays.json, rays.csv and the plot rays.png
   std::string size = "512x512";
   int threads = 0;
   int reps = 5;
@@ -23,5 +26,9 @@ struct RaysOptions {
 // Runs the benchmark as the command does (output on stdout and, where it has one, in its
 // output directory); returns the exit code (2 after a one-line error on stderr).
 int run_rays(const RaysOptions& options);
+
+// One scene's measurement (bench_rays.cpp): its JSON object in `result`, and its table on stdout
+// unless options.json; the exit code, as run_rays.
+int rays_of_scene(const RaysOptions& options, const std::string& spec, nlohmann::ordered_json& result);
 
 }  // namespace frameless::bench

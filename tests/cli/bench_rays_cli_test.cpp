@@ -1,9 +1,13 @@
-// `frameless bench rays --json` end to end on a small image: the work per ray (8-wide nodes
+// `frameless bench rays --json` end to end on small images: the work per ray (8-wide nodes
 // entered, primitives tested) is reported for every kind of ray, and the BVH keeps it to a tiny
-// fraction of the scene; bad arguments are one line each. (No timing is asserted.)
+// fraction of the scene; several scenes make one report; bad arguments are one line each. (No
+// timing is asserted.)
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "cli_test_util.h"
 
@@ -44,6 +48,53 @@ TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
   // Rays exactly on a shared edge may go to either triangle: allow one in a hundred.
   EXPECT_GE(j["embree"]["primary_agreement"].get<double>(), 0.99);
   EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);
+}
+
+// Several scenes are measured one after the other into one report: --json gives every run, --out
+// writes them as rays.json (with the machine and build), rays.csv (a row per scene and kind of
+// ray) and the plot's data, each scene under its own name.
+TEST(BenchRaysCli, SeveralScenesMakeOneReport) {
+  const std::string args = "bench rays spheres:2000 soup:500 --size 24x24 --reps 1 --threads 1 --no-embree";
+  const CommandResult r = run_frameless(args + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.output;
+  ASSERT_EQ(j["runs"].size(), 2u) << r.output;
+  EXPECT_EQ(j["runs"][0]["scene"], "spheres:2000");
+  EXPECT_EQ(j["runs"][0]["spheres"].get<int>(), 2000);
+  EXPECT_EQ(j["runs"][1]["scene"], "soup:500");
+  EXPECT_EQ(j["runs"][1]["triangles"].get<int>(), 500);
+
+  const std::filesystem::path dir = fresh_dir("bench_rays_out");
+  const CommandResult w = run_frameless(args + " --out " + dir.string());
+  ASSERT_EQ(w.exit_code, 0) << w.output;
+  EXPECT_NE(w.output.find("soup:500"), std::string::npos) << w.output;  // the summary table's rows
+  std::ifstream json_file(dir / "rays.json");
+  const nlohmann::json report = nlohmann::json::parse(json_file, nullptr, false);
+  ASSERT_FALSE(report.is_discarded());
+  ASSERT_EQ(report["runs"].size(), 2u);
+  EXPECT_TRUE(report.contains("machine")) << report.dump();
+  EXPECT_EQ(report["runs"][1]["scene"], "soup:500");
+  std::ifstream csv_file(dir / "rays.csv");
+  std::stringstream csv;
+  csv << csv_file.rdbuf();
+  EXPECT_EQ(count_lines(csv.str()), 1 + 2 * 5) << csv.str();  // the header, five kinds of ray a scene
+  EXPECT_NE(csv.str().find("soup:500,bounce_shadow,"), std::string::npos) << csv.str();
+  EXPECT_TRUE(std::filesystem::exists(dir / "rays.dat"));
+  if (std::filesystem::exists(dir / "rays.png")) EXPECT_GT(std::filesystem::file_size(dir / "rays.png"), 1000u);
+  std::filesystem::remove_all(dir);
+}
+
+// A bad scene anywhere in the list is one line and leaves no report behind.
+TEST(BenchRaysCli, ABadSceneAmongSeveralLeavesNoReport) {
+  const std::filesystem::path dir = fresh_dir("bench_rays_bad");
+  const CommandResult r = run_frameless("bench rays spheres:2000 no_such_scene.json --size 16x16 --reps 1 --threads 1 "
+                                        "--no-embree --json --out " + dir.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "rays.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "rays.csv"));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(BenchRaysCli, BadArgumentsAreOneLine) {

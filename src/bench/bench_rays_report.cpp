@@ -1,0 +1,161 @@
+// `frameless bench rays` over one scene or several: each measured by rays_of_scene (bench_rays.cpp),
+// then, for several, one table of the ratios to Embree; with --out, the runs as DIR/rays.json and
+// DIR/rays.csv and the ratios as a bar chart, DIR/rays.png (our Mrays/s without Embree).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "bench/bench_options.h"
+#include "bench/bench_rays.h"
+#include "bench/bench_report.h"
+
+namespace frameless::bench {
+namespace {
+
+// A kind of ray as the runs report it: our Mrays/s key and the ratio to Embree's call.
+struct RayKind {
+  const char* name;     // CSV and table
+  const char* label;    // plot legend
+  const char* mrays;    // our key, "_1t" appended for one thread
+  const char* ratio;    // the key in "embree", "_1t" appended for one thread
+};
+constexpr RayKind kKinds[] = {
+    {"primary", "primary / rtcIntersect1", "primary_mrays_per_s", "ratio_primary_vs_intersect1"},
+    {"packets", "packets of 8 / rtcIntersect8", "primary_packet_mrays_per_s", "ratio_primary_packet_vs_packet8"},
+    {"shadow", "shadow / rtcOccluded1", "shadow_mrays_per_s", "ratio_shadow_vs_occluded1"},
+    {"bounce", "bounce / rtcIntersect1", "bounce_mrays_per_s", "ratio_bounce_vs_intersect1"},
+    {"bounce_shadow", "bounce shadow / rtcOccluded1", "bounce_shadow_mrays_per_s", "ratio_bounce_shadow_vs_occluded1"},
+};
+
+// A run's figure, NaN when it has none (no Embree, or no rays of that kind).
+double figure(const nlohmann::ordered_json& run, const RayKind& k, bool ratio, bool one_thread) {
+  const std::string suffix = one_thread ? "_1t" : "";
+  const nlohmann::ordered_json* at = &run;
+  std::string key = std::string(k.mrays) + suffix;
+  if (ratio) {
+    if (!run.contains("embree")) return NAN;
+    at = &run["embree"];
+    key = std::string(k.ratio) + suffix;
+  }
+  return at->contains(key) ? (*at)[key].get<double>() : NAN;
+}
+
+// A scene's short name for tables and plots: a model's file name without its folder and extension.
+std::string short_name(const std::string& spec) {
+  const std::filesystem::path p(spec);
+  return p.has_extension() ? p.stem().string() : spec;
+}
+
+// The bar chart of every run's figures by kind of ray, one panel per thread count.
+std::string plot_body(const std::string& dat, bool ratios, int threads) {
+  // Scene names as written (a model's underscores are no subscripts).
+  std::string body = "set termoption noenhanced\nset style data histograms\nset style histogram clustered gap 1\n";
+  body += "set style fill solid 0.85 border -1\nset datafile missing '?'\nset datafile separator tab\n";
+  // The ratios' range always holds 1, so the line at 1 stays inside each panel.
+  body += std::string("set grid ytics\nset key outside right top vertical\nset xtics nomirror\n") +
+          (ratios ? "set yrange [0:1.2<*]\n" : "set yrange [0:*]\n");
+  body += ratios ? "set ylabel 'ours / Embree (above 1: ours faster)'\n" : "set ylabel 'Mrays/s'\n";
+  if (ratios) body += "set arrow 1 from graph 0, first 1 to graph 1, first 1 nohead lw 2 dt 2 lc rgb 'black'\n";
+  const int panels = threads > 1 ? 2 : 1;
+  if (panels > 1) body += "set multiplot layout 2,1\n";
+  for (int p = 0; p < panels; ++p) {
+    const int column0 = 2 + p * int(std::size(kKinds));
+    body += "set title '" + std::string(p == 0 ? "1 thread" : std::to_string(threads) + " threads") +
+            (ratios ? ": ratio to Embree 3 on the same rays" : ": Embree not in this build") + "'\n";
+    body += "plot";
+    for (size_t k = 0; k < std::size(kKinds); ++k)
+      body += std::string(k ? "," : "") + " '" + dat + "' using " + std::to_string(column0 + int(k)) +
+              (k == 0 ? ":xtic(1)" : "") + " title '" + (ratios ? kKinds[k].label : kKinds[k].name) + "'";
+    body += "\n";
+  }
+  if (panels > 1) body += "unset multiplot\n";
+  return body;
+}
+
+int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads) {
+  std::string error;
+  CsvTable csv;
+  csv.header = {"scene", "kind", "mrays_per_s_1t", "mrays_per_s", "ratio_to_embree_1t", "ratio_to_embree"};
+  std::string dat = "# scene, then by kind of ray (primary packets shadow bounce bounce_shadow): 1 thread, then " +
+                    std::to_string(threads) + " threads; " + (ratios ? "ratios to Embree" : "Mrays/s") + "\n";
+  for (const nlohmann::ordered_json& run : runs) {
+    const std::string name = short_name(run["scene"].get<std::string>());
+    for (const RayKind& k : kKinds)
+      csv.rows.push_back({name, k.name, csv_number(figure(run, k, false, true)), csv_number(figure(run, k, false, false)),
+                          csv_number(figure(run, k, true, true)), csv_number(figure(run, k, true, false))});
+    dat += name;  // tab-separated columns: a model's name may hold spaces
+    for (const bool one : {true, false})
+      for (const RayKind& k : kKinds) {
+        const double v = figure(run, k, ratios, one);
+        dat += "\t" + (std::isfinite(v) ? csv_number(v) : std::string("?"));
+      }
+    dat += "\n";
+  }
+  nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads}, {"reps", a.reps},
+                             {"opaque", a.opaque}, {"embree", !a.no_embree}};
+  nlohmann::json j = bench_header("rays", nullptr, "", settings);
+  j["runs"] = runs;
+  if (!write_text_atomic(a.out + "/rays.csv", csv.text(), error) ||
+      !write_text_atomic(a.out + "/rays.dat", dat, error))
+    return report_error(error);
+  bool png = false;
+  if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads), error, &png))
+    return report_error(error);
+  j["outputs"] = {{"plot", png ? "rays.png" : ""}, {"data", "rays.dat"}, {"table", "rays.csv"}};
+  if (!write_json(a.out + "/rays.json", j, error)) return report_error(error);
+  return 0;
+}
+
+// Several scenes: the ratios side by side, one row per scene.
+void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads) {
+  std::printf("\n%s, 1 thread / %d threads:\n%-22s", ratios ? "ours / Embree" : "Mrays/s", threads, "scene");
+  for (const RayKind& k : kKinds) std::printf(" %15s", k.name);
+  std::printf("\n");
+  for (const nlohmann::ordered_json& run : runs) {
+    std::printf("%-22s", short_name(run["scene"].get<std::string>()).c_str());
+    for (const RayKind& k : kKinds) {
+      const double one = figure(run, k, ratios, true), many = figure(run, k, ratios, false);
+      if (std::isfinite(one))
+        std::printf(" %7.2f /%6.2f", one, many);
+      else
+        std::printf(" %15s", "no rays");
+    }
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+int run_rays(const RaysOptions& a) {
+  std::string error;
+  int width = 0, height = 0;
+  // Every argument is checked, and the output folder made, before the first scene's long run.
+  if (a.scenes.empty()) return report_error("bench rays: no scene given");
+  if (!parse_size(a.size, width, height, error)) return report_error(error);
+  if (!valid_threads(a.threads, error)) return report_error(error);
+  if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
+  if (!a.out.empty() && !prepare_out_dir(a.out, error)) return report_error(error);
+  const int threads = a.threads > 0 ? a.threads : hardware_threads();
+  std::vector<nlohmann::ordered_json> runs;
+  for (size_t i = 0; i < a.scenes.size(); ++i) {
+    if (i > 0 && !a.json) std::printf("\n");
+    nlohmann::ordered_json run;
+    if (const int rc = rays_of_scene(a, a.scenes[i], run); rc != 0) return rc;
+    runs.push_back(std::move(run));
+  }
+  bool ratios = true;
+  for (const nlohmann::ordered_json& run : runs) ratios = ratios && run.contains("embree");
+  if (a.json) {
+    nlohmann::ordered_json all;
+    all["runs"] = runs;
+    std::printf("%s\n", (runs.size() == 1 ? runs[0] : all).dump().c_str());
+  } else if (runs.size() > 1) {
+    print_summary(runs, ratios, threads);
+  }
+  return a.out.empty() ? 0 : write_outputs(a, runs, ratios, threads);
+}
+
+}  // namespace frameless::bench
