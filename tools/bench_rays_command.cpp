@@ -17,7 +17,7 @@ const bool bench_rays_registered = register_command(
       app.add_option("scenes", a->scenes,
                      "built-in names, .json scenes or .obj/.ply/.gltf/.glb models, measured one after the other")
           ->capture_default_str();
-      app.add_option("--out", a->out, "also write DIR/rays.json, DIR/rays.csv and the ratio plot DIR/rays.png");
+      app.add_option("--out", a->out, "also write DIR/rays.json (every run), DIR/rays.csv (a row per scene and kind of ray) and the plot DIR/rays.png of the ratios to Embree (of Mrays/s without it; its data and script: rays.dat, rays.gp)");
       add_shadow_flags(app, a->shadows);
       app.add_option("--size", a->size, "image size WxH")->capture_default_str();
       app.add_option("--threads", a->threads,

@@ -1,6 +1,7 @@
 // `frameless bench rays` over one scene or several: each measured by rays_of_scene (bench_rays.cpp),
 // then, for several, one table of the ratios to Embree; with --out, the runs as DIR/rays.json and
 // DIR/rays.csv and the ratios as a bar chart, DIR/rays.png (our Mrays/s without Embree).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,23 +16,33 @@
 namespace frameless::bench {
 namespace {
 
-// A kind of ray as the runs report it: our Mrays/s key and the ratio to Embree's call.
+// A kind of ray as the runs report it: how many were traced, our Mrays/s key and the ratio to
+// Embree's call.
 struct RayKind {
   const char* name;     // CSV and table
   const char* label;    // plot legend
+  const char* count;    // the number of rays traced
   const char* mrays;    // our key, "_1t" appended for one thread
   const char* ratio;    // the key in "embree", "_1t" appended for one thread
 };
 constexpr RayKind kKinds[] = {
-    {"primary", "primary / rtcIntersect1", "primary_mrays_per_s", "ratio_primary_vs_intersect1"},
-    {"packets", "packets of 8 / rtcIntersect8", "primary_packet_mrays_per_s", "ratio_primary_packet_vs_packet8"},
-    {"shadow", "shadow / rtcOccluded1", "shadow_mrays_per_s", "ratio_shadow_vs_occluded1"},
-    {"bounce", "bounce / rtcIntersect1", "bounce_mrays_per_s", "ratio_bounce_vs_intersect1"},
-    {"bounce_shadow", "bounce shadow / rtcOccluded1", "bounce_shadow_mrays_per_s", "ratio_bounce_shadow_vs_occluded1"},
+    {"primary", "primary / rtcIntersect1", "primary_rays", "primary_mrays_per_s", "ratio_primary_vs_intersect1"},
+    {"packets", "packets of 8 / rtcIntersect8", "primary_rays", "primary_packet_mrays_per_s",
+     "ratio_primary_packet_vs_packet8"},
+    {"shadow", "shadow / rtcOccluded1", "shadow_rays", "shadow_mrays_per_s", "ratio_shadow_vs_occluded1"},
+    {"bounce", "bounce / rtcIntersect1", "bounce_rays", "bounce_mrays_per_s", "ratio_bounce_vs_intersect1"},
+    {"bounce_shadow", "bounce shadow / rtcOccluded1", "bounce_shadow_rays", "bounce_shadow_mrays_per_s",
+     "ratio_bounce_shadow_vs_occluded1"},
 };
 
-// A run's figure, NaN when it has none (no Embree, or no rays of that kind).
+bool has_rays(const nlohmann::ordered_json& run, const RayKind& k) {
+  return run.contains(k.count) && run[k.count].get<double>() > 0.0;
+}
+
+// A run's figure, NaN when it has none: no rays of that kind (a rate over no rays measures only
+// the loop), no Embree, or a time too short to give a finite rate.
 double figure(const nlohmann::ordered_json& run, const RayKind& k, bool ratio, bool one_thread) {
+  if (!has_rays(run, k)) return NAN;
   const std::string suffix = one_thread ? "_1t" : "";
   const nlohmann::ordered_json* at = &run;
   std::string key = std::string(k.mrays) + suffix;
@@ -40,13 +51,28 @@ double figure(const nlohmann::ordered_json& run, const RayKind& k, bool ratio, b
     at = &run["embree"];
     key = std::string(k.ratio) + suffix;
   }
-  return at->contains(key) ? (*at)[key].get<double>() : NAN;
+  const double v = at->contains(key) && (*at)[key].is_number() ? (*at)[key].get<double>() : NAN;
+  return std::isfinite(v) ? v : NAN;
 }
 
-// A scene's short name for tables and plots: a model's file name without its folder and extension.
-std::string short_name(const std::string& spec) {
-  const std::filesystem::path p(spec);
-  return p.has_extension() ? p.stem().string() : spec;
+// Each scene's name for tables and plots: a model's file name without its folder and extension,
+// the whole spec where two would share one; tabs and line breaks (the plot data's separators)
+// become spaces.
+std::vector<std::string> scene_names(const std::vector<nlohmann::ordered_json>& runs) {
+  std::vector<std::string> specs, names;
+  for (const nlohmann::ordered_json& run : runs) {
+    specs.push_back(run["scene"].get<std::string>());
+    const std::filesystem::path p(specs.back());
+    names.push_back(p.has_extension() ? p.stem().string() : specs.back());
+  }
+  for (size_t i = 0; i < names.size(); ++i) {
+    const bool shared = std::count(names.begin(), names.end(), names[i]) > 1;
+    std::string name = shared ? specs[i] : names[i];
+    for (char& c : name)
+      if (c == '\t' || c == '\n' || c == '\r') c = ' ';
+    names[i] = name;
+  }
+  return names;
 }
 
 // The bar chart of every run's figures by kind of ray, one panel per thread count.
@@ -64,7 +90,7 @@ std::string plot_body(const std::string& dat, bool ratios, int threads) {
   for (int p = 0; p < panels; ++p) {
     const int column0 = 2 + p * int(std::size(kKinds));
     body += "set title '" + std::string(p == 0 ? "1 thread" : std::to_string(threads) + " threads") +
-            (ratios ? ": ratio to Embree 3 on the same rays" : ": Embree not in this build") + "'\n";
+            (ratios ? ": ratio to Embree 3 on the same rays" : ": Mrays/s (no Embree comparison)") + "'\n";
     body += "plot";
     for (size_t k = 0; k < std::size(kKinds); ++k)
       body += std::string(k ? "," : "") + " '" + dat + "' using " + std::to_string(column0 + int(k)) +
@@ -75,18 +101,25 @@ std::string plot_body(const std::string& dat, bool ratios, int threads) {
   return body;
 }
 
-int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads) {
+// DIR/rays.csv, rays.dat and rays.png, then rays.json last: the last run's report is replaced
+// whole, never mixed with this one's (its plot and report go first).
+int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads,
+                  bool& png) {
   std::string error;
+  std::error_code ignored;
+  for (const char* old : {"rays.json", "rays.png"}) std::filesystem::remove(a.out + "/" + old, ignored);
+  const std::vector<std::string> names = scene_names(runs);
   CsvTable csv;
-  csv.header = {"scene", "kind", "mrays_per_s_1t", "mrays_per_s", "ratio_to_embree_1t", "ratio_to_embree"};
+  csv.header = {"scene", "kind", "rays", "mrays_per_s_1t", "mrays_per_s", "ratio_to_embree_1t", "ratio_to_embree"};
   std::string dat = "# scene, then by kind of ray (primary packets shadow bounce bounce_shadow): 1 thread, then " +
                     std::to_string(threads) + " threads; " + (ratios ? "ratios to Embree" : "Mrays/s") + "\n";
-  for (const nlohmann::ordered_json& run : runs) {
-    const std::string name = short_name(run["scene"].get<std::string>());
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const nlohmann::ordered_json& run = runs[r];
     for (const RayKind& k : kKinds)
-      csv.rows.push_back({name, k.name, csv_number(figure(run, k, false, true)), csv_number(figure(run, k, false, false)),
-                          csv_number(figure(run, k, true, true)), csv_number(figure(run, k, true, false))});
-    dat += name;  // tab-separated columns: a model's name may hold spaces
+      csv.rows.push_back({names[r], k.name, csv_number(run.value(k.count, 0.0)), csv_number(figure(run, k, false, true)),
+                          csv_number(figure(run, k, false, false)), csv_number(figure(run, k, true, true)),
+                          csv_number(figure(run, k, true, false))});
+    dat += gnuplot_tic_text(names[r]);  // a tic label is a format too; tab-separated columns
     for (const bool one : {true, false})
       for (const RayKind& k : kKinds) {
         const double v = figure(run, k, ratios, one);
@@ -94,14 +127,14 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
       }
     dat += "\n";
   }
-  nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads}, {"reps", a.reps},
-                             {"opaque", a.opaque}, {"embree", !a.no_embree}};
-  nlohmann::json j = bench_header("rays", nullptr, "", settings);
-  j["runs"] = runs;
+  const nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads},
+                                   {"reps", a.reps}, {"opaque", a.opaque}, {"embree", ratios}};
+  nlohmann::ordered_json j = bench_header("rays", nullptr, "", settings);
+  j["runs"] = runs;  // each as --json prints it for one scene
   if (!write_text_atomic(a.out + "/rays.csv", csv.text(), error) ||
       !write_text_atomic(a.out + "/rays.dat", dat, error))
     return report_error(error);
-  bool png = false;
+  png = false;
   if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads), error, &png))
     return report_error(error);
   j["outputs"] = {{"plot", png ? "rays.png" : ""}, {"data", "rays.dat"}, {"table", "rays.csv"}};
@@ -111,17 +144,21 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
 
 // Several scenes: the ratios side by side, one row per scene.
 void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads) {
-  std::printf("\n%s, 1 thread / %d threads:\n%-22s", ratios ? "ours / Embree" : "Mrays/s", threads, "scene");
+  const std::string columns = threads > 1 ? "1 thread / " + std::to_string(threads) + " threads" : "1 thread";
+  std::printf("\n%s, %s:\n%-22s", ratios ? "ours / Embree" : "Mrays/s", columns.c_str(), "scene");
   for (const RayKind& k : kKinds) std::printf(" %15s", k.name);
   std::printf("\n");
-  for (const nlohmann::ordered_json& run : runs) {
-    std::printf("%-22s", short_name(run["scene"].get<std::string>()).c_str());
+  const std::vector<std::string> names = scene_names(runs);
+  for (size_t r = 0; r < runs.size(); ++r) {
+    std::printf("%-22s", names[r].c_str());
     for (const RayKind& k : kKinds) {
-      const double one = figure(run, k, ratios, true), many = figure(run, k, ratios, false);
-      if (std::isfinite(one))
+      const double one = figure(runs[r], k, ratios, true), many = figure(runs[r], k, ratios, false);
+      if (!has_rays(runs[r], k))
+        std::printf(" %15s", "no rays");
+      else if (threads > 1)
         std::printf(" %7.2f /%6.2f", one, many);
       else
-        std::printf(" %15s", "no rays");
+        std::printf(" %15.2f", one);
     }
     std::printf("\n");
   }
@@ -132,11 +169,17 @@ void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios,
 int run_rays(const RaysOptions& a) {
   std::string error;
   int width = 0, height = 0;
-  // Every argument is checked, and the output folder made, before the first scene's long run.
+  // The arguments, the model files named and the output folder are checked before the first
+  // scene's run (a built-in name's typo is found at its turn).
   if (a.scenes.empty()) return report_error("bench rays: no scene given");
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
+  for (const std::string& spec : a.scenes) {
+    const std::string ext = std::filesystem::path(spec).extension().string();
+    for (const char* model : {".json", ".obj", ".ply", ".gltf", ".glb"})
+      if (ext == model && !std::filesystem::is_regular_file(spec)) return report_error(spec + ": no such file");
+  }
   if (!a.out.empty() && !prepare_out_dir(a.out, error)) return report_error(error);
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   std::vector<nlohmann::ordered_json> runs;
@@ -148,14 +191,19 @@ int run_rays(const RaysOptions& a) {
   }
   bool ratios = true;
   for (const nlohmann::ordered_json& run : runs) ratios = ratios && run.contains("embree");
+  bool png = false;
+  if (!a.out.empty())
+    if (const int rc = write_outputs(a, runs, ratios, threads, png); rc != 0) return rc;
   if (a.json) {
     nlohmann::ordered_json all;
     all["runs"] = runs;
     std::printf("%s\n", (runs.size() == 1 ? runs[0] : all).dump().c_str());
-  } else if (runs.size() > 1) {
-    print_summary(runs, ratios, threads);
+    return 0;
   }
-  return a.out.empty() ? 0 : write_outputs(a, runs, ratios, threads);
+  if (runs.size() > 1) print_summary(runs, ratios, threads);
+  if (!a.out.empty())
+    std::printf("wrote %s/rays.json, rays.csv, rays.dat%s\n", a.out.c_str(), png ? " and rays.png" : "");
+  return 0;
 }
 
 }  // namespace frameless::bench

@@ -170,12 +170,22 @@ std::string csv_number(double v) {
   return buf;
 }
 
+namespace {
+// A cell as RFC 4180 has it: quoted (its quotes doubled) when it holds a comma, quote or line break.
+std::string csv_cell(const std::string& cell) {
+  if (cell.find_first_of(",\"\r\n") == std::string::npos) return cell;
+  std::string q = "\"";
+  for (char c : cell) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+}  // namespace
+
 std::string CsvTable::text() const {
   std::string t;
-  for (size_t i = 0; i < header.size(); ++i) t += (i ? "," : "") + header[i];
+  for (size_t i = 0; i < header.size(); ++i) t += (i ? "," : "") + csv_cell(header[i]);
   t += "\n";
   for (const auto& row : rows) {
-    for (size_t i = 0; i < row.size(); ++i) t += (i ? "," : "") + row[i];
+    for (size_t i = 0; i < row.size(); ++i) t += (i ? "," : "") + csv_cell(row[i]);
     t += "\n";
   }
   return t;

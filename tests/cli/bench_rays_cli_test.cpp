@@ -8,6 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_test_util.h"
 
@@ -50,9 +52,25 @@ TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
   EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);
 }
 
+// The lines of a text file.
+std::vector<std::string> file_lines(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::string> split(const std::string& line, char separator) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, separator);) cells.push_back(cell);
+  return cells;
+}
+
 // Several scenes are measured one after the other into one report: --json gives every run, --out
 // writes them as rays.json (with the machine and build), rays.csv (a row per scene and kind of
-// ray) and the plot's data, each scene under its own name.
+// ray, with its rays and rates) and the plot's data (a scene and ten figures a line), each scene
+// under its own name, and the summary table names every scene.
 TEST(BenchRaysCli, SeveralScenesMakeOneReport) {
   const std::string args = "bench rays spheres:2000 soup:500 --size 24x24 --reps 1 --threads 1 --no-embree";
   const CommandResult r = run_frameless(args + " --json");
@@ -68,32 +86,77 @@ TEST(BenchRaysCli, SeveralScenesMakeOneReport) {
   const std::filesystem::path dir = fresh_dir("bench_rays_out");
   const CommandResult w = run_frameless(args + " --out " + dir.string());
   ASSERT_EQ(w.exit_code, 0) << w.output;
-  EXPECT_NE(w.output.find("soup:500"), std::string::npos) << w.output;  // the summary table's rows
+  const size_t summary = w.output.find("Mrays/s, 1 thread:");
+  ASSERT_NE(summary, std::string::npos) << w.output;
+  EXPECT_NE(w.output.find("\nsoup:500 ", summary), std::string::npos) << w.output;
   std::ifstream json_file(dir / "rays.json");
   const nlohmann::json report = nlohmann::json::parse(json_file, nullptr, false);
   ASSERT_FALSE(report.is_discarded());
   ASSERT_EQ(report["runs"].size(), 2u);
   EXPECT_TRUE(report.contains("machine")) << report.dump();
   EXPECT_EQ(report["runs"][1]["scene"], "soup:500");
-  std::ifstream csv_file(dir / "rays.csv");
-  std::stringstream csv;
-  csv << csv_file.rdbuf();
-  EXPECT_EQ(count_lines(csv.str()), 1 + 2 * 5) << csv.str();  // the header, five kinds of ray a scene
-  EXPECT_NE(csv.str().find("soup:500,bounce_shadow,"), std::string::npos) << csv.str();
-  EXPECT_TRUE(std::filesystem::exists(dir / "rays.dat"));
+  EXPECT_FALSE(report["settings"]["embree"].get<bool>());
+
+  const std::vector<std::string> csv = file_lines(dir / "rays.csv");
+  ASSERT_EQ(csv.size(), 1u + 2u * 5u);  // the header, five kinds of ray a scene
+  EXPECT_EQ(csv[0], "scene,kind,rays,mrays_per_s_1t,mrays_per_s,ratio_to_embree_1t,ratio_to_embree");
+  const std::vector<std::string> soup_primary = split(csv[6], ',');
+  ASSERT_EQ(soup_primary.size(), 7u) << csv[6];
+  EXPECT_EQ(soup_primary[0], "soup:500");
+  EXPECT_EQ(soup_primary[1], "primary");
+  EXPECT_EQ(soup_primary[2], "576");  // 24 x 24 camera rays
+  EXPECT_GT(std::stod(soup_primary[3]), 0.0) << csv[6];
+  EXPECT_EQ(soup_primary[5], "nan");  // no Embree, no ratio
+
+  const std::vector<std::string> dat = file_lines(dir / "rays.dat");
+  ASSERT_EQ(dat.size(), 3u);  // a comment, then a line a scene
+  for (size_t i = 1; i < dat.size(); ++i) EXPECT_EQ(split(dat[i], '\t').size(), 11u) << dat[i];
+  EXPECT_EQ(split(dat[2], '\t')[0], "soup:500");
   if (std::filesystem::exists(dir / "rays.png")) EXPECT_GT(std::filesystem::file_size(dir / "rays.png"), 1000u);
   std::filesystem::remove_all(dir);
 }
 
-// A bad scene anywhere in the list is one line and leaves no report behind.
-TEST(BenchRaysCli, ABadSceneAmongSeveralLeavesNoReport) {
+// With Embree in the build, every scene's row has its ratios to Embree, and the report says so.
+TEST(BenchRaysCli, WithEmbreeTheReportHasRatios) {
+  const std::filesystem::path dir = fresh_dir("bench_rays_embree");
+  const CommandResult r =
+      run_frameless("bench rays spheres:2000 soup:500 --size 24x24 --reps 1 --threads 1 --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream json_file(dir / "rays.json");
+  const nlohmann::json report = nlohmann::json::parse(json_file, nullptr, false);
+  ASSERT_FALSE(report.is_discarded());
+  if (!report["runs"][0].contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
+  EXPECT_TRUE(report["settings"]["embree"].get<bool>());
+  EXPECT_NE(r.output.find("ours / Embree, 1 thread:"), std::string::npos) << r.output;
+  const std::vector<std::string> csv = file_lines(dir / "rays.csv");
+  ASSERT_EQ(csv.size(), 11u);
+  for (size_t i = 1; i < csv.size(); ++i) {
+    const std::vector<std::string> cells = split(csv[i], ',');
+    ASSERT_EQ(cells.size(), 7u) << csv[i];
+    if (cells[2] == "0") continue;  // a kind without rays has no ratio
+    EXPECT_GT(std::stod(cells[5]), 0.0) << csv[i];
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A bad scene anywhere in the list, or an output folder that cannot be one, is one line before
+// anything is measured, and leaves no report.
+TEST(BenchRaysCli, BadScenesAndFoldersAreOneLineAndLeaveNoReport) {
   const std::filesystem::path dir = fresh_dir("bench_rays_bad");
-  const CommandResult r = run_frameless("bench rays spheres:2000 no_such_scene.json --size 16x16 --reps 1 --threads 1 "
-                                        "--no-embree --json --out " + dir.string());
+  for (const std::string spec : {"no_such_scene.json", "no_such_model.ply", "no_such_builtin"}) {
+    const CommandResult r = run_frameless("bench rays spheres:2000 " + spec +
+                                          " --size 16x16 --reps 1 --threads 1 --no-embree --json --out " + dir.string());
+    EXPECT_NE(r.exit_code, 0) << spec;
+    EXPECT_EQ(count_lines(r.output), 1) << spec << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "rays.json")) << spec;
+    EXPECT_FALSE(std::filesystem::exists(dir / "rays.csv")) << spec;
+  }
+  std::ofstream(dir / "a_file") << "not a folder\n";
+  const CommandResult r = run_frameless("bench rays spheres:2000 --size 16x16 --reps 1 --no-embree --out " +
+                                        (dir / "a_file").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_FALSE(std::filesystem::exists(dir / "rays.json"));
-  EXPECT_FALSE(std::filesystem::exists(dir / "rays.csv"));
+  EXPECT_EQ(r.output.find("scene spheres"), std::string::npos) << "measured before the folder was checked";
   std::filesystem::remove_all(dir);
 }
 
