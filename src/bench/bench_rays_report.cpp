@@ -12,6 +12,7 @@
 #include "bench/bench_options.h"
 #include "bench/bench_rays.h"
 #include "bench/bench_report.h"
+#include "core/scenes/scene_load.h"
 
 namespace frameless::bench {
 namespace {
@@ -175,11 +176,8 @@ int run_rays(const RaysOptions& a) {
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
-  for (const std::string& spec : a.scenes) {
-    const std::string ext = std::filesystem::path(spec).extension().string();
-    for (const char* model : {".json", ".obj", ".ply", ".gltf", ".glb"})
-      if (ext == model && !std::filesystem::is_regular_file(spec)) return report_error(spec + ": no such file");
-  }
+  for (const std::string& spec : a.scenes)
+    if (is_scene_file(spec) && !std::filesystem::is_regular_file(spec)) return report_error(spec + ": no such file");
   if (!a.out.empty() && !prepare_out_dir(a.out, error)) return report_error(error);
   const int threads = a.threads > 0 ? a.threads : hardware_threads();
   std::vector<nlohmann::ordered_json> runs;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "core/scenes/scene_load.h"
 #include "viewer/panel_state.h"
 #include "viewer/viewer_controls.h"
 
@@ -14,12 +15,6 @@ namespace fs = std::filesystem;
 namespace frameless {
 namespace {
 
-bool openable(const fs::path& p) {
-  static const char* const kinds[] = {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"};
-  const std::string ext = p.extension().string();
-  return std::any_of(std::begin(kinds), std::end(kinds), [&](const char* k) { return ext == k; });
-}
-
 // Lists `folder` (folders first, then the files the viewer opens; hidden ones left out).
 void list(PanelState& p) {
   p.entries.clear();
@@ -27,7 +22,7 @@ void list(PanelState& p) {
   for (const fs::directory_entry& e : fs::directory_iterator(p.folder, ec)) {
     const std::string name = e.path().filename().string();
     const bool folder = e.is_directory(ec);
-    if (name.empty() || name[0] == '.' || (!folder && !openable(e.path()))) continue;
+    if (name.empty() || name[0] == '.' || (!folder && !is_scene_file(e.path().string()))) continue;
     p.entries.push_back({name, folder});
   }
   std::sort(p.entries.begin(), p.entries.end(), [](auto& a, auto& b) {

@@ -114,6 +114,14 @@ Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
 
 }  // namespace
 
+bool is_scene_file(const std::string& spec) {
+  static const char* const kinds[] = {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"};
+  const std::string ext = file_extension(spec);
+  for (const char* k : kinds)
+    if (ext == k) return true;
+  return false;
+}
+
 // File names and strings from the input appear in errors: keep every message on one line.
 Result<std::unique_ptr<Scene>> load_scene(const std::string& spec) {
   auto scene = one_line(load_scene_any_text(spec));

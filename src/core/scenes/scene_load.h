@@ -18,6 +18,10 @@ namespace frameless {
 // The returned scene is finalized (accel built).
 Result<std::unique_ptr<Scene>> load_scene(const std::string& spec);
 
+// Whether SPEC names a file load_scene reads (by its extension: scenes, meshes, models, sphere
+// lists, volumes) rather than a built-in scene; callers check such a file exists before long work.
+bool is_scene_file(const std::string& spec);
+
 // Built-in scenes; nullopt-like error for unknown names.
 Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name);
 // Names for --help.
