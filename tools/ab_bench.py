@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Compare two frameless builds (or one build under two environments) on one benchmark.
+
+Usage: tools/ab_bench.py [options] A B -- BENCH ARGS...
+
+Runs `A BENCH ARGS --json` and `B BENCH ARGS --json` alternately, A B B A A B ..., for --rounds
+rounds, so that a shared machine's slow and fast spells fall on both sides alike, and prints for
+each figure the median of each side, the ratio B / A and in how many rounds B's figure was the
+higher. One run's figure on a shared machine moves by 10 % or more; a change of a few percent
+shows only in the medians and the count over several rounds (docs/benchmarks.md, section 30).
+
+Figures are the JSON's numbers, named by their path (embree.ratio_primary_vs_intersect1_1t,
+curve_order.phases_ms.splat); --field picks them, --preset names a usual set, and without either
+every number whose name has "ratio" in it is shown (every number when none has).
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+PRESETS = {
+    # bench rays: ours against Embree, one thread, by kind of ray.
+    "rays": ["embree.ratio_primary_vs_intersect1_1t", "embree.ratio_primary_packet_vs_packet8_1t",
+             "embree.ratio_shadow_vs_occluded1_1t", "embree.ratio_bounce_vs_intersect1_1t",
+             "embree.ratio_bounce_shadow_vs_occluded1_1t"],
+    # bench reproject --order curve: a change and its phases, milliseconds.
+    "reproject": ["curve_order.median_ms", "curve_order.phases_ms.splat", "curve_order.phases_ms.cracks",
+                  "curve_order.phases_ms.disocclusions", "curve_order.phases_ms.pixel_pass",
+                  "curve_order.phases_ms.slot_pass"],
+}
+
+
+class Failure(Exception):
+    pass
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, as every frameless command's errors
+        print(f"ab_bench: {message}", file=sys.stderr)
+        sys.exit(2)
+
+
+def numbers(tree, prefix=""):
+    """Every number in a JSON tree, by its dotted path (lists by index)."""
+    if isinstance(tree, bool):
+        return {}
+    if isinstance(tree, (int, float)):
+        return {prefix: float(tree)}
+    items = tree.items() if isinstance(tree, dict) else enumerate(tree) if isinstance(tree, list) else []
+    out = {}
+    for key, value in items:
+        out.update(numbers(value, f"{prefix}.{key}" if prefix else str(key)))
+    return out
+
+
+def parse_env(pairs, side):
+    env = dict(os.environ)
+    for pair in pairs:
+        name, eq, value = pair.partition("=")
+        if not eq or not name:
+            raise Failure(f"--env-{side}: expected NAME=VALUE, got '{pair}'")
+        env[name] = value
+    return env
+
+
+def run(binary, args, env, side):
+    try:
+        done = subprocess.run([binary] + args + ["--json"], env=env, capture_output=True, text=True)
+    except OSError as e:
+        raise Failure(f"{side} ({binary}): cannot run: {e.strerror}")
+    if done.returncode != 0:
+        lines = (done.stderr or done.stdout).strip().splitlines()
+        raise Failure(f"{side} ({binary}) exited {done.returncode}: {lines[-1] if lines else 'no message'}")
+    try:
+        return numbers(json.loads(done.stdout))
+    except json.JSONDecodeError as e:
+        raise Failure(f"{side} ({binary}): its output is not JSON (line {e.lineno}: {e.msg})")
+
+
+def main(argv):
+    if "--" in argv:
+        split = argv.index("--")
+        own, bench = argv[:split], argv[split + 1:]
+    else:
+        own, bench = argv, []
+    p = Parser(prog="ab_bench.py", description=__doc__.split("\n\n")[0],
+                                epilog="Example: tools/ab_bench.py --preset rays old/frameless new/frameless "
+                                       "-- bench rays bunny --threads 1 --reps 2")
+    p.add_argument("a", metavar="A", help="the first frameless binary")
+    p.add_argument("b", metavar="B", help="the second (may be A again, with --env-a or --env-b)")
+    p.add_argument("--rounds", type=int, default=5, help="rounds, each one run of A and one of B (default 5)")
+    p.add_argument("--field", action="append", default=[], help="a figure's JSON path (repeatable)")
+    p.add_argument("--preset", choices=sorted(PRESETS), help="a usual set of figures")
+    p.add_argument("--env-a", action="append", default=[], metavar="NAME=VALUE", help="environment of A's runs")
+    p.add_argument("--env-b", action="append", default=[], metavar="NAME=VALUE", help="environment of B's runs")
+    o = p.parse_args(own)
+    try:
+        if not bench:
+            raise Failure("no benchmark given: put its arguments after --, e.g. -- bench rays bunny")
+        if not 1 <= o.rounds <= 1000:
+            raise Failure(f"--rounds: must be 1..1000, got {o.rounds}")
+        for side, binary in (("A", o.a), ("B", o.b)):
+            if not os.access(binary, os.X_OK):
+                raise Failure(f"{side}: {binary}: no such executable")
+        envs = {"A": parse_env(o.env_a, "a"), "B": parse_env(o.env_b, "b")}
+        binaries = {"A": o.a, "B": o.b}
+        fields = list(o.field) + (PRESETS[o.preset] if o.preset else [])
+        got = {"A": [], "B": []}
+        progress = sys.stderr.isatty()
+        for r in range(o.rounds):
+            for side in ("A", "B") if r % 2 == 0 else ("B", "A"):
+                if progress:
+                    print(f"\rround {r + 1}/{o.rounds}, {side}  ", end="", file=sys.stderr, flush=True)
+                got[side].append(run(binaries[side], bench, envs[side], side))
+        if progress:
+            print("\r" + " " * 30 + "\r", end="", file=sys.stderr)
+        if not fields:
+            shared = [k for k in got["A"][0] if k in got["B"][0]]
+            fields = [k for k in shared if "ratio" in k.rsplit(".", 1)[-1]] or shared
+        for f in fields:
+            for side in ("A", "B"):
+                if f not in got[side][0]:
+                    raise Failure(f"{side}'s output has no field '{f}'")
+    except Failure as e:
+        print(f"ab_bench: {e}", file=sys.stderr)
+        return 2
+    width = max(len(f) for f in fields)
+    print(f"{'figure':<{width}}  {'A median':>10}  {'B median':>10}  {'B / A':>7}  B higher")
+    for f in fields:
+        a = [run_[f] for run_ in got["A"]]
+        b = [run_[f] for run_ in got["B"]]
+        ma, mb = statistics.median(a), statistics.median(b)
+        ratio = f"{mb / ma:7.3f}" if ma else f"{'-':>7}"
+        higher = sum(y > x for x, y in zip(a, b))
+        print(f"{f:<{width}}  {ma:10.4g}  {mb:10.4g}  {ratio}  {higher} of {o.rounds}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
