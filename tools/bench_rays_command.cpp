@@ -26,6 +26,9 @@ const bool bench_rays_registered = register_command(
           ->capture_default_str();
       app.add_flag("--json", a->json, "print one JSON object instead of a table (several scenes: their objects under \"runs\")");
       app.add_flag("--no-embree", a->no_embree, "skip the Embree comparison (when built with it)");
+      app.add_flag("--embree-robust", a->embree_robust,
+                   "give Embree's scenes RTC_SCENE_FLAG_ROBUST (its mode that keeps accuracy, the like of our "
+                   "watertight test and conservative boxes) instead of its default fast mode");
       app.add_flag("--opaque", a->opaque,
                    "ignore cut-out (alpha) surfaces, as the Embree comparison does");
       add_camera_flags(app, a->camera);

@@ -19,6 +19,7 @@ struct RaysOptions {
   int reps = 5;
   bool json = false;
   bool no_embree = false;
+  bool embree_robust = false;  // Embree's scenes with RTC_SCENE_FLAG_ROBUST
   bool opaque = false;
   CameraOptions camera;
 };

@@ -33,7 +33,9 @@ class EmbreeBench {
   // Triangles are geometry 0, spheres geometry 1, declared instance d geometry kFirstInstance + d
   // (each mesh its own committed scene, as ours is its own BVH). The device gets `threads` build
   // threads so its pool does not oversubscribe the machine.
-  EmbreeBench(const Scene& s, int threads) {
+  // robust: every scene gets RTC_SCENE_FLAG_ROBUST (Embree's mode that avoids optimizations
+  // which lose accuracy, its nearest to our watertight test and conservative boxes).
+  EmbreeBench(const Scene& s, int threads, bool robust = false) : robust_(robust) {
     const std::string config = "threads=" + std::to_string(threads);
     device_ = rtcNewDevice(config.c_str());
     if (!device_) {
@@ -42,7 +44,7 @@ class EmbreeBench {
     }
     rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
     const auto start = std::chrono::steady_clock::now();
-    scene_ = new_scene(device_, s.geometry, &mesh_scenes_);
+    scene_ = new_scene(device_, s.geometry, &mesh_scenes_, robust);
     const auto commit = std::chrono::steady_clock::now();
     rtcCommitScene(scene_);
     const auto end = std::chrono::steady_clock::now();
@@ -184,6 +186,7 @@ class EmbreeBench {
     RTCDevice device_ = nullptr;
   };
   size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }
+  bool robust() const { return robust_; }
   std::string version() const {
     return std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
            std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
@@ -199,12 +202,13 @@ class EmbreeBench {
   // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed; with
   // `meshes`, g's instances too (geometry kFirstInstance + d), over mesh scenes committed here and
   // appended to *meshes (the caller releases them).
-  static RTCScene new_scene(RTCDevice device, const Geometry& g, std::vector<RTCScene>* meshes = nullptr) {
-    RTCScene scene = flat_scene(device, g);
+  static RTCScene new_scene(RTCDevice device, const Geometry& g, std::vector<RTCScene>* meshes = nullptr,
+                            bool robust = false) {
+    RTCScene scene = flat_scene(device, g, robust);
     if (!meshes || g.instances.empty()) return scene;
     const size_t first = meshes->size();
     for (const auto& mesh : g.instance_meshes) {
-      meshes->push_back(flat_scene(device, mesh->geometry));
+      meshes->push_back(flat_scene(device, mesh->geometry, robust));
       rtcCommitScene(meshes->back());
     }
     for (size_t d = 0; d < g.instances.size(); ++d) {
@@ -223,8 +227,9 @@ class EmbreeBench {
     return scene;
   }
   // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed.
-  static RTCScene flat_scene(RTCDevice device, const Geometry& g) {
+  static RTCScene flat_scene(RTCDevice device, const Geometry& g, bool robust = false) {
     RTCScene scene = rtcNewScene(device);
+    if (robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry tri = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
         tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.positions.size()));
@@ -262,6 +267,7 @@ class EmbreeBench {
     out.mask = ~0u, out.id = 0, out.flags = 0;
   }
 
+  bool robust_ = false;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;  // instanced meshes' scenes

@@ -77,7 +77,7 @@ std::vector<std::string> scene_names(const std::vector<nlohmann::ordered_json>& 
 }
 
 // The bar chart of every run's figures by kind of ray, one panel per thread count.
-std::string plot_body(const std::string& dat, bool ratios, int threads) {
+std::string plot_body(const std::string& dat, bool ratios, int threads, bool robust) {
   // Scene names as written (a model's underscores are no subscripts).
   std::string body = "set termoption noenhanced\nset style data histograms\nset style histogram clustered gap 1\n";
   body += "set style fill solid 0.85 border -1\nset datafile missing '?'\nset datafile separator tab\n";
@@ -91,7 +91,8 @@ std::string plot_body(const std::string& dat, bool ratios, int threads) {
   for (int p = 0; p < panels; ++p) {
     const int column0 = 2 + p * int(std::size(kKinds));
     body += "set title '" + std::string(p == 0 ? "1 thread" : std::to_string(threads) + " threads") +
-            (ratios ? ": ratio to Embree 3 on the same rays" : ": Mrays/s (no Embree comparison)") + "'\n";
+            (ratios ? std::string(": ratio to Embree 3") + (robust ? " (robust mode)" : "") + " on the same rays"
+                   : std::string(": Mrays/s (no Embree comparison)")) + "'\n";
     body += "plot";
     for (size_t k = 0; k < std::size(kKinds); ++k)
       body += std::string(k ? "," : "") + " '" + dat + "' using " + std::to_string(column0 + int(k)) +
@@ -129,14 +130,15 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
     dat += "\n";
   }
   const nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads},
-                                   {"reps", a.reps}, {"opaque", a.opaque}, {"embree", ratios}};
+                                   {"reps", a.reps}, {"opaque", a.opaque}, {"embree", ratios},
+                                   {"embree_robust", a.embree_robust}};
   nlohmann::ordered_json j = bench_header("rays", nullptr, "", settings);
   j["runs"] = runs;  // each as --json prints it for one scene
   if (!write_text_atomic(a.out + "/rays.csv", csv.text(), error) ||
       !write_text_atomic(a.out + "/rays.dat", dat, error))
     return report_error(error);
   png = false;
-  if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads), error, &png))
+  if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads, a.embree_robust), error, &png))
     return report_error(error);
   j["outputs"] = {{"plot", png ? "rays.png" : ""}, {"data", "rays.dat"}, {"table", "rays.csv"}};
   if (!write_json(a.out + "/rays.json", j, error)) return report_error(error);
@@ -144,9 +146,10 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
 }
 
 // Several scenes: the ratios side by side, one row per scene.
-void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads) {
+void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads, bool robust) {
   const std::string columns = threads > 1 ? "1 thread / " + std::to_string(threads) + " threads" : "1 thread";
-  std::printf("\n%s, %s:\n%-22s", ratios ? "ours / Embree" : "Mrays/s", columns.c_str(), "scene");
+  std::printf("\n%s, %s:\n%-22s", ratios ? (robust ? "ours / Embree (robust mode)" : "ours / Embree") : "Mrays/s",
+              columns.c_str(), "scene");
   for (const RayKind& k : kKinds) std::printf(" %15s", k.name);
   std::printf("\n");
   const std::vector<std::string> names = scene_names(runs);
@@ -198,7 +201,7 @@ int run_rays(const RaysOptions& a) {
     std::printf("%s\n", (runs.size() == 1 ? runs[0] : all).dump().c_str());
     return 0;
   }
-  if (runs.size() > 1) print_summary(runs, ratios, threads);
+  if (runs.size() > 1) print_summary(runs, ratios, threads, a.embree_robust);
   if (!a.out.empty())
     std::printf("wrote %s/rays.json, rays.csv, rays.dat%s\n", a.out.c_str(), png ? " and rays.png" : "");
   return 0;

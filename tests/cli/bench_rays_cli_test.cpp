@@ -52,6 +52,39 @@ TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
   EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);
 }
 
+// --embree-robust gives Embree's scenes its accurate mode: the run says which mode it measured
+// (in the JSON, the report's settings and the table), and the robust Embree agrees with us as the
+// fast one does.
+TEST(BenchRaysCli, EmbreeRobustModeIsMeasuredAndSaid) {
+  const CommandResult fast = run_frameless("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json");
+  ASSERT_EQ(fast.exit_code, 0) << fast.output;
+  const nlohmann::json f = nlohmann::json::parse(fast.output, nullptr, false);
+  ASSERT_FALSE(f.is_discarded()) << fast.output;
+  if (!f.contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
+  EXPECT_FALSE(f["embree"]["robust"].get<bool>());
+  const CommandResult robust =
+      run_frameless("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json --embree-robust");
+  ASSERT_EQ(robust.exit_code, 0) << robust.output;
+  const nlohmann::json j = nlohmann::json::parse(robust.output, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << robust.output;
+  EXPECT_TRUE(j["embree"]["robust"].get<bool>());
+  EXPECT_GE(j["embree"]["primary_agreement"].get<double>(), 0.99);
+  EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);
+  EXPECT_GT(j["embree"]["ratio_primary_vs_intersect1_1t"].get<double>(), 0.0);
+  const CommandResult table = run_frameless("bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --embree-robust");
+  ASSERT_EQ(table.exit_code, 0) << table.output;
+  EXPECT_NE(table.output.find(" robust, build"), std::string::npos) << table.output;
+  const auto dir = fresh_dir("rays_robust");
+  const CommandResult report = run_frameless("bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --embree-robust --out " +
+                                             dir.string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  std::ifstream in(dir / "rays.json");
+  const nlohmann::json saved = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(saved.is_discarded());
+  EXPECT_TRUE(saved["settings"]["embree_robust"].get<bool>());
+  std::filesystem::remove_all(dir);
+}
+
 // The lines of a text file.
 std::vector<std::string> file_lines(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -152,6 +152,15 @@ TEST(BadInput, LyingPlyHeaderFailsFast) {
 TEST(BadInput, UnknownSceneSpec) {
   expect_fails(load_scene("not-a-scene"), {"not-a-scene", "built-in"});
   expect_fails(load_scene(kData + "/meshes/tetra.stl"), {"tetra.stl"});
+  // The error names every kind of file the loader reads (it once listed three of nine).
+  const auto unknown = load_scene("not-a-scene");
+  ASSERT_FALSE(unknown.ok());
+  for (const std::string kind : {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"}) {
+    EXPECT_TRUE(is_scene_file("x" + kind)) << kind;
+    EXPECT_NE(unknown.error().message.find(kind + (kind == ".spheres" ? ")" : ",")), std::string::npos)
+        << kind << ": " << unknown.error().message;
+  }
+  EXPECT_FALSE(is_scene_file("x.stl"));
 }
 
 }  // namespace

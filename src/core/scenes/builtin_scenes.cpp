@@ -223,7 +223,7 @@ Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name) {
       return Error{name + ": plant count must be between 1 and " + std::to_string(kMaxFlatSunflowers)};
     return make_sunflowers(*n, true);
   } else
-    return Error{name + ": not a file with a known extension (.json, .obj, .ply) nor a built-in "
+    return Error{name + ": not a file with a known extension (" + scene_file_kinds() + ") nor a built-in "
                         "scene (default, cornell, showcase, balls, teapot, room, office, sunflowers[:N], "
                         "sunflowers-flat:N, spheres:N[:SEED], soup:N[:SEED], volume:KIND:N[:MODE], bunny)"};
   if (!scene) return scene;

@@ -114,12 +114,21 @@ Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
 
 }  // namespace
 
+namespace {
+const char* const kSceneFileKinds[] = {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"};
+}  // namespace
+
 bool is_scene_file(const std::string& spec) {
-  static const char* const kinds[] = {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"};
   const std::string ext = file_extension(spec);
-  for (const char* k : kinds)
+  for (const char* k : kSceneFileKinds)
     if (ext == k) return true;
   return false;
+}
+
+std::string scene_file_kinds() {
+  std::string out;
+  for (const char* k : kSceneFileKinds) out += (out.empty() ? "" : ", ") + std::string(k);
+  return out;
 }
 
 // File names and strings from the input appear in errors: keep every message on one line.

@@ -21,6 +21,8 @@ Result<std::unique_ptr<Scene>> load_scene(const std::string& spec);
 // Whether SPEC names a file load_scene reads (by its extension: scenes, meshes, models, sphere
 // lists, volumes) rather than a built-in scene; callers check such a file exists before long work.
 bool is_scene_file(const std::string& spec);
+// The extensions is_scene_file accepts, as a list for messages (".json, .obj, ...").
+std::string scene_file_kinds();
 
 // Built-in scenes; nullopt-like error for unknown names.
 Result<std::unique_ptr<Scene>> make_builtin_scene(const std::string& name);
