@@ -20,18 +20,7 @@ namespace {
 const std::string kTool = std::string(FRAMELESS_TEST_DATA) + "/../../tools/ab_bench.py";
 const std::string kBench = "bench reproject default --size 96x54 --changes 2 --order curve";
 
-CommandResult run_tool(const std::string& args) {
-  CommandResult r;
-  const std::string cmd = "/usr/bin/python3 " + kTool + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
+CommandResult run_tool(const std::string& args) { return run_command("/usr/bin/python3 " + kTool + " " + args); }
 
 // A wrapper that appends `name` to `log` and runs this build's frameless with `extra` after the
 // arguments it is given.

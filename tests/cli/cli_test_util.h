@@ -14,8 +14,9 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CommandResult run_frameless(const std::string& args) {
-  const std::string cmd = std::string(FRAMELESS_BINARY) + " " + args + " 2>&1";
+// Runs a shell command line, stdout and stderr captured together.
+inline CommandResult run_command(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   CommandResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -26,6 +27,8 @@ inline CommandResult run_frameless(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }
+
+inline CommandResult run_frameless(const std::string& args) { return run_command(std::string(FRAMELESS_BINARY) + " " + args); }
 
 // A fresh empty directory under the system temp dir.
 inline std::filesystem::path fresh_dir(const std::string& name) {
