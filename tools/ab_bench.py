@@ -16,6 +16,7 @@ every number whose name has "ratio" in it is shown (every number when none has).
 import argparse
 import json
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -65,18 +66,25 @@ def parse_env(pairs, side):
     return env
 
 
-def run(binary, args, env, side):
+def run(binary, args, env, side, round_):
     try:
-        done = subprocess.run([binary] + args + ["--json"], env=env, capture_output=True, text=True)
+        done = subprocess.run([binary] + args + ["--json"], env=env, capture_output=True)
     except OSError as e:
         raise Failure(f"{side} ({binary}): cannot run: {e.strerror}")
+    out = done.stdout.decode("utf-8", errors="replace")
     if done.returncode != 0:
-        lines = (done.stderr or done.stdout).strip().splitlines()
-        raise Failure(f"{side} ({binary}) exited {done.returncode}: {lines[-1] if lines else 'no message'}")
+        lines = (done.stderr.decode("utf-8", errors="replace") or out).strip().splitlines()
+        raise Failure(f"{side} ({binary}) exited {done.returncode} in round {round_}: {lines[-1] if lines else 'no message'}")
     try:
-        return numbers(json.loads(done.stdout))
-    except json.JSONDecodeError as e:
-        raise Failure(f"{side} ({binary}): its output is not JSON (line {e.lineno}: {e.msg})")
+        return numbers(json.loads(out))
+    except ValueError as e:
+        line = f" (line {e.lineno}: {e.msg})" if isinstance(e, json.JSONDecodeError) else ""
+        raise Failure(f"{side} ({binary}): its output in round {round_} is not JSON{line}")
+
+
+def clear_progress(progress):
+    if progress:
+        print("\r" + " " * 30 + "\r", end="", file=sys.stderr, flush=True)
 
 
 def main(argv):
@@ -85,7 +93,7 @@ def main(argv):
         own, bench = argv[:split], argv[split + 1:]
     else:
         own, bench = argv, []
-    p = Parser(prog="ab_bench.py", description=__doc__.split("\n\n")[0],
+    p = Parser(prog="ab_bench.py", usage="%(prog)s [options] A B -- BENCH ARGS...", description=__doc__.split("\n\n")[0],
                                 epilog="Example: tools/ab_bench.py --preset rays old/frameless new/frameless "
                                        "-- bench rays bunny --threads 1 --reps 2")
     p.add_argument("a", metavar="A", help="the first frameless binary")
@@ -96,34 +104,41 @@ def main(argv):
     p.add_argument("--env-a", action="append", default=[], metavar="NAME=VALUE", help="environment of A's runs")
     p.add_argument("--env-b", action="append", default=[], metavar="NAME=VALUE", help="environment of B's runs")
     o = p.parse_args(own)
+    progress = sys.stderr.isatty()
     try:
         if not bench:
             raise Failure("no benchmark given: put its arguments after --, e.g. -- bench rays bunny")
         if not 1 <= o.rounds <= 1000:
             raise Failure(f"--rounds: must be 1..1000, got {o.rounds}")
+        binaries = {}
         for side, binary in (("A", o.a), ("B", o.b)):
-            if not os.access(binary, os.X_OK):
+            found = shutil.which(binary)  # a path, or a name on PATH; not a folder
+            if not found or os.path.isdir(found):
                 raise Failure(f"{side}: {binary}: no such executable")
+            binaries[side] = found
         envs = {"A": parse_env(o.env_a, "a"), "B": parse_env(o.env_b, "b")}
-        binaries = {"A": o.a, "B": o.b}
         fields = list(o.field) + (PRESETS[o.preset] if o.preset else [])
         got = {"A": [], "B": []}
-        progress = sys.stderr.isatty()
         for r in range(o.rounds):
             for side in ("A", "B") if r % 2 == 0 else ("B", "A"):
                 if progress:
                     print(f"\rround {r + 1}/{o.rounds}, {side}  ", end="", file=sys.stderr, flush=True)
-                got[side].append(run(binaries[side], bench, envs[side], side))
-        if progress:
-            print("\r" + " " * 30 + "\r", end="", file=sys.stderr)
+                got[side].append(run(binaries[side], bench, envs[side], side, r + 1))
+        clear_progress(progress)
         if not fields:
             shared = [k for k in got["A"][0] if k in got["B"][0]]
             fields = [k for k in shared if "ratio" in k.rsplit(".", 1)[-1]] or shared
+            if not fields:
+                raise Failure("A's and B's outputs share no number to compare")
+        # Every round's: a figure the benchmark leaves out (a rate over no rays is written as null)
+        # is missing in that round only.
         for f in fields:
             for side in ("A", "B"):
-                if f not in got[side][0]:
-                    raise Failure(f"{side}'s output has no field '{f}'")
+                for r, figures in enumerate(got[side]):
+                    if f not in figures:
+                        raise Failure(f"{side}'s output has no number '{f}'" + (f" in round {r + 1}" if r else ""))
     except Failure as e:
+        clear_progress(progress)
         print(f"ab_bench: {e}", file=sys.stderr)
         return 2
     width = max(len(f) for f in fields)

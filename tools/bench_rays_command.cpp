@@ -28,7 +28,7 @@ const bool bench_rays_registered = register_command(
       app.add_flag("--no-embree", a->no_embree, "skip the Embree comparison (when built with it)");
       app.add_flag("--embree-robust", a->embree_robust,
                    "give Embree's scenes RTC_SCENE_FLAG_ROBUST (its mode that keeps accuracy, the like of our "
-                   "watertight test and conservative boxes) instead of its default fast mode");
+                   "watertight test and conservative boxes) instead of its default fast mode; nothing without Embree");
       app.add_flag("--opaque", a->opaque,
                    "ignore cut-out (alpha) surfaces, as the Embree comparison does");
       add_camera_flags(app, a->camera);

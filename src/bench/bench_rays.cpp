@@ -347,7 +347,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
     e["robust"] = embree.robust();
     e["build_ms"] = embree.build_ms();
     // After the ray timings: while its one-thread device lives, TBB limits the whole process.
-    e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3));
+    e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3), a.embree_robust);
     e["bytes"] = embree.bytes();
     e["primary_mrays_per_s_1t"] = ep1.mrays(primary.size());
     e["primary_packet8_mrays_per_s_1t"] = e81.mrays(primary.size());

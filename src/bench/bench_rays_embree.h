@@ -135,9 +135,9 @@ class EmbreeBench {
   double setup_ms() const { return setup_ms_; }
 
   // Best of `reps` builds (rtcCommitScene of a fresh scene each time) on a device with `threads`
-  // build threads (1: Embree builds on the calling thread alone), in ms.
-  static double build_ms_with_threads(const Scene& s, int threads, int reps) {
-    BuildTimer timer(threads);
+  // build threads (1: Embree builds on the calling thread alone), in ms; robust as the constructor's.
+  static double build_ms_with_threads(const Scene& s, int threads, int reps, bool robust = false) {
+    BuildTimer timer(threads, robust);
     double best = 1e30;
     for (int r = 0; r < reps; ++r) best = std::min(best, timer.build_ms(s.geometry));
     return best;
@@ -153,7 +153,7 @@ class EmbreeBench {
   // One device kept for repeated timed builds, so a caller can interleave them with its own.
   class BuildTimer {
    public:
-    explicit BuildTimer(int threads) {
+    explicit BuildTimer(int threads, bool robust = false) : robust_(robust) {
       const std::string config = "threads=" + std::to_string(threads);
       device_ = rtcNewDevice(config.c_str());
       if (!device_) {
@@ -170,7 +170,7 @@ class EmbreeBench {
     // spent meanwhile.
     double build_ms(const Geometry& g, double* cpu_ms = nullptr) {
       std::vector<RTCScene> meshes;
-      RTCScene scene = new_scene(device_, g, &meshes);
+      RTCScene scene = new_scene(device_, g, &meshes, robust_);
       const double cpu_start = process_cpu_ms();
       const auto start = std::chrono::steady_clock::now();
       rtcCommitScene(scene);
@@ -183,6 +183,7 @@ class EmbreeBench {
     }
 
    private:
+    bool robust_ = false;
     RTCDevice device_ = nullptr;
   };
   size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }

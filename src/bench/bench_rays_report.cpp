@@ -131,7 +131,7 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
   }
   const nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads},
                                    {"reps", a.reps}, {"opaque", a.opaque}, {"embree", ratios},
-                                   {"embree_robust", a.embree_robust}};
+                                   {"embree_robust", a.embree_robust && ratios}};
   nlohmann::ordered_json j = bench_header("rays", nullptr, "", settings);
   j["runs"] = runs;  // each as --json prints it for one scene
   if (!write_text_atomic(a.out + "/rays.csv", csv.text(), error) ||

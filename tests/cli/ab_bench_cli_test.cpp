@@ -86,5 +86,35 @@ TEST(AbBench, BadInputIsOneLineAndExitsTwo) {
   }
 }
 
+// Benchmarks whose output changes from run to run: a figure missing in a later round only (a
+// rate over no rays is written as null), and outputs with no number in common, are one line too.
+TEST(AbBench, FiguresMissingInALaterRoundOrNotSharedAreOneLine) {
+  const auto dir = fresh_dir("ab_bench_outputs");
+  const auto script = [&](const std::string& name, const std::string& body) {
+    const std::filesystem::path path = dir / name;
+    std::ofstream(path) << "#!/bin/sh\n" << body << "\n";
+    ::chmod(path.c_str(), 0755);
+    return path.string();
+  };
+  // The first run prints x and y, every later one x alone.
+  const std::string once = script("once", "if [ -e " + (dir / "ran").string() + " ]; then echo '{\"x\": 1}'; else touch " +
+                                              (dir / "ran").string() + "; echo '{\"x\": 1, \"y\": 2}'; fi");
+  const std::string both = script("both", "echo '{\"x\": 1, \"y\": 3}'");
+  CommandResult r = run_tool("--rounds 2 --field y " + once + " " + both + " -- bench");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output, "ab_bench: A's output has no number 'y' in round 2\n");
+  r = run_tool("--rounds 2 --field x " + once + " " + both + " -- bench");  // x is in every round
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_tool("--rounds 1 " + script("text_a", "echo '{\"a\": \"x\"}'") + " " +
+               script("text_b", "echo '{\"b\": [\"y\"]}'") + " -- bench");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output, "ab_bench: A's and B's outputs share no number to compare\n");
+  r = run_tool("--rounds 1 " + script("binary", "printf '\\377\\376{'") + " " + both + " -- bench");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("is not JSON"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace frameless::test

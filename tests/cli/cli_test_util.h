@@ -1,4 +1,5 @@
-// Runs the frameless binary in a child process and captures exit code and stderr; test thread.
+// Runs a command line (the frameless binary, a tool) in a child process and captures its exit code and its
+// stdout and stderr together; test thread.
 #pragma once
 #include <sys/wait.h>
 
