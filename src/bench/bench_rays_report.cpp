@@ -76,6 +76,9 @@ std::vector<std::string> scene_names(const std::vector<nlohmann::ordered_json>& 
   return names;
 }
 
+// What the summary and the plot add to Embree's name: which of its modes was measured.
+std::string embree_mode(bool robust) { return robust ? " (robust mode)" : ""; }
+
 // The bar chart of every run's figures by kind of ray, one panel per thread count.
 std::string plot_body(const std::string& dat, bool ratios, int threads, bool robust) {
   // Scene names as written (a model's underscores are no subscripts).
@@ -91,8 +94,7 @@ std::string plot_body(const std::string& dat, bool ratios, int threads, bool rob
   for (int p = 0; p < panels; ++p) {
     const int column0 = 2 + p * int(std::size(kKinds));
     body += "set title '" + std::string(p == 0 ? "1 thread" : std::to_string(threads) + " threads") +
-            (ratios ? std::string(": ratio to Embree 3") + (robust ? " (robust mode)" : "") + " on the same rays"
-                   : std::string(": Mrays/s (no Embree comparison)")) + "'\n";
+            (ratios ? ": ratio to Embree 3" + embree_mode(robust) + " on the same rays" : std::string(": Mrays/s (no Embree comparison)")) + "'\n";
     body += "plot";
     for (size_t k = 0; k < std::size(kKinds); ++k)
       body += std::string(k ? "," : "") + " '" + dat + "' using " + std::to_string(column0 + int(k)) +
@@ -148,8 +150,7 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
 // Several scenes: the ratios side by side, one row per scene.
 void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads, bool robust) {
   const std::string columns = threads > 1 ? "1 thread / " + std::to_string(threads) + " threads" : "1 thread";
-  std::printf("\n%s, %s:\n%-22s", ratios ? (robust ? "ours / Embree (robust mode)" : "ours / Embree") : "Mrays/s",
-              columns.c_str(), "scene");
+  std::printf("\n%s, %s:\n%-22s", ratios ? ("ours / Embree" + embree_mode(robust)).c_str() : "Mrays/s", columns.c_str(), "scene");
   for (const RayKind& k : kKinds) std::printf(" %15s", k.name);
   std::printf("\n");
   const std::vector<std::string> names = scene_names(runs);

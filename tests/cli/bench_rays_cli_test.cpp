@@ -39,11 +39,18 @@ TEST(BenchRaysCli, JsonReportsTheWorkOfEachKindOfRay) {
 // geometry over each mesh's scene), and the two agree on what each primary ray hits: the same
 // instance and primitive. A transform handed over in the wrong layout, or an instance numbered
 // apart from ours, breaks the agreement.
-TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
-  const CommandResult r = run_frameless("bench rays sunflowers:1 --opaque --size 48x48 --reps 1 --threads 1 --json");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+// A run's JSON (discarded when the run failed, which is reported).
+nlohmann::json run_json(const std::string& args) {
+  const CommandResult r = run_frameless(args);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << r.output;
+  EXPECT_FALSE(j.is_discarded()) << r.output;
+  return j;
+}
+
+TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
+  const nlohmann::json j = run_json("bench rays sunflowers:1 --opaque --size 48x48 --reps 1 --threads 1 --json");
+  ASSERT_FALSE(j.is_discarded());
   if (!j.contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
   ASSERT_GT(j["instances"].get<int>(), 1);
   EXPECT_GT(j["primary_hit_fraction"].get<double>(), 0.5);
@@ -56,17 +63,12 @@ TEST(BenchRaysCli, EmbreeSeesTheSameInstances) {
 // (in the JSON, the report's settings and the table), and the robust Embree agrees with us as the
 // fast one does.
 TEST(BenchRaysCli, EmbreeRobustModeIsMeasuredAndSaid) {
-  const CommandResult fast = run_frameless("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json");
-  ASSERT_EQ(fast.exit_code, 0) << fast.output;
-  const nlohmann::json f = nlohmann::json::parse(fast.output, nullptr, false);
-  ASSERT_FALSE(f.is_discarded()) << fast.output;
+  const nlohmann::json f = run_json("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json");
+  ASSERT_FALSE(f.is_discarded());
   if (!f.contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
   EXPECT_FALSE(f["embree"]["robust"].get<bool>());
-  const CommandResult robust =
-      run_frameless("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json --embree-robust");
-  ASSERT_EQ(robust.exit_code, 0) << robust.output;
-  const nlohmann::json j = nlohmann::json::parse(robust.output, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << robust.output;
+  const nlohmann::json j = run_json("bench rays bunny --opaque --size 48x48 --reps 1 --threads 1 --json --embree-robust");
+  ASSERT_FALSE(j.is_discarded());
   EXPECT_TRUE(j["embree"]["robust"].get<bool>());
   EXPECT_GE(j["embree"]["primary_agreement"].get<double>(), 0.99);
   EXPECT_GE(j["embree"]["shadow_agreement"].get<double>(), 0.99);

@@ -112,10 +112,9 @@ Result<std::unique_ptr<Scene>> load_scene_any_text(const std::string& spec) {
   return make_builtin_scene(spec);
 }
 
-}  // namespace
-
-namespace {
+// What load_scene_any_text dispatches on, besides built-in names.
 const char* const kSceneFileKinds[] = {".json", ".obj", ".ply", ".gltf", ".glb", ".vdb", ".nrrd", ".nhdr", ".spheres"};
+
 }  // namespace
 
 bool is_scene_file(const std::string& spec) {
