@@ -206,7 +206,10 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   Timing p1, pn, s1, sn, pk1, pkn, sk1, skn;
 #if defined(FRAMELESS_HAVE_EMBREE)
   std::unique_ptr<EmbreeBench> embree_ptr;
-  if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads, a.embree_robust);
+  EmbreeMode embree_mode;
+  embree_mode.robust = a.embree_robust;
+  embree_quality_of(a.embree_quality, embree_mode.quality);  // checked by run_rays
+  if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads, embree_mode);
   std::vector<EmbreeHit> ehits(primary.size());
   std::vector<uint8_t> eocc(shadow.size());
   Timing ep1, epn, e81, e8n, es1, esn, es81, es8n, eb1, ebn, ebs1, ebsn;
@@ -345,9 +348,10 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
     for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
     e["version"] = embree.version();
     e["robust"] = embree.robust();
+    e["build_quality"] = embree.quality();
     e["build_ms"] = embree.build_ms();
     // After the ray timings: while its one-thread device lives, TBB limits the whole process.
-    e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3), a.embree_robust);
+    e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3), embree_mode);
     e["bytes"] = embree.bytes();
     e["primary_mrays_per_s_1t"] = ep1.mrays(primary.size());
     e["primary_packet8_mrays_per_s_1t"] = e81.mrays(primary.size());
@@ -433,10 +437,10 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
       row("ratio bounce / intersect1", b1.mrays(1) / eb1.mrays(1), bn.mrays(1) / ebn.mrays(1));
     if (!bounce_shadow.empty())
       row("ratio bounce sh. / occl.1", bs1.mrays(1) / ebs1.mrays(1), bsn.mrays(1) / ebsn.mrays(1));
-    std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s%s, build %.1f ms on 1 "
+    std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s%s, %s quality, build %.1f ms on 1 "
                 "thread, %.1f ms on %d)\n",
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
-                embree.version().c_str(), embree.robust() ? " robust" : "", e["build_ms_1t"].get<double>(),
+                embree.version().c_str(), embree.robust() ? " robust" : "", embree.quality(), e["build_ms_1t"].get<double>(),
                 embree.build_ms(), threads);
   }
 #else

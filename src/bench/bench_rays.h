@@ -20,6 +20,7 @@ struct RaysOptions {
   bool json = false;
   bool no_embree = false;
   bool embree_robust = false;  // Embree's scenes with RTC_SCENE_FLAG_ROBUST
+  std::string embree_quality = "medium";  // Embree's build quality: low, medium (its default) or high
   bool opaque = false;
   CameraOptions camera;
 };

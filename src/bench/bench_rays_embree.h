@@ -28,14 +28,31 @@ struct EmbreeHit {
   bool valid() const { return geom != RTC_INVALID_GEOMETRY_ID; }
 };
 
+// How Embree builds its scenes: its robust mode or not (RTC_SCENE_FLAG_ROBUST) and its build
+// quality (RTC_BUILD_QUALITY_*: medium is its default, high adds spatial splits).
+struct EmbreeMode {
+  bool robust = false;
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
+};
+
+// A build quality by name (low, medium, high); false for any other name.
+inline bool embree_quality_of(const std::string& name, RTCBuildQuality& quality) {
+  if (name == "low") quality = RTC_BUILD_QUALITY_LOW;
+  else if (name == "medium") quality = RTC_BUILD_QUALITY_MEDIUM;
+  else if (name == "high") quality = RTC_BUILD_QUALITY_HIGH;
+  else return false;
+  return true;
+}
+
 class EmbreeBench {
  public:
   // Triangles are geometry 0, spheres geometry 1, declared instance d geometry kFirstInstance + d
   // (each mesh its own committed scene, as ours is its own BVH). The device gets `threads` build
   // threads so its pool does not oversubscribe the machine.
-  // robust: every scene gets RTC_SCENE_FLAG_ROBUST (Embree's mode that avoids optimizations
-  // which lose accuracy, its nearest to our watertight test and conservative boxes).
-  EmbreeBench(const Scene& s, int threads, bool robust = false) : robust_(robust) {
+  // mode.robust: every scene gets RTC_SCENE_FLAG_ROBUST (Embree's mode that avoids optimizations
+  // which lose accuracy, its nearest to our watertight test and conservative boxes); every scene
+  // is built at mode.quality.
+  EmbreeBench(const Scene& s, int threads, EmbreeMode mode = {}) : mode_(mode) {
     const std::string config = "threads=" + std::to_string(threads);
     device_ = rtcNewDevice(config.c_str());
     if (!device_) {
@@ -44,7 +61,7 @@ class EmbreeBench {
     }
     rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
     const auto start = std::chrono::steady_clock::now();
-    scene_ = new_scene(device_, s.geometry, &mesh_scenes_, robust);
+    scene_ = new_scene(device_, s.geometry, &mesh_scenes_, mode);
     const auto commit = std::chrono::steady_clock::now();
     rtcCommitScene(scene_);
     const auto end = std::chrono::steady_clock::now();
@@ -129,15 +146,15 @@ class EmbreeBench {
         h.inst == RTC_INVALID_GEOMETRY_ID ? g : g.instance_meshes[g.instances[h.inst].mesh]->geometry;
     return h.geom == 0 ? h.prim : hit_geometry.num_triangles() + h.prim;
   }
-  // rtcCommitScene alone (the BVH build, Embree's default medium quality); setup_ms: filling
+  // rtcCommitScene alone (the BVH build, at the mode's quality); setup_ms: filling
   // Embree's vertex, index and sphere buffers before it (a copy our build does not make).
   double build_ms() const { return build_ms_; }
   double setup_ms() const { return setup_ms_; }
 
   // Best of `reps` builds (rtcCommitScene of a fresh scene each time) on a device with `threads`
-  // build threads (1: Embree builds on the calling thread alone), in ms; robust as the constructor's.
-  static double build_ms_with_threads(const Scene& s, int threads, int reps, bool robust = false) {
-    BuildTimer timer(threads, robust);
+  // build threads (1: Embree builds on the calling thread alone), in ms; the mode as the constructor's.
+  static double build_ms_with_threads(const Scene& s, int threads, int reps, EmbreeMode mode = {}) {
+    BuildTimer timer(threads, mode);
     double best = 1e30;
     for (int r = 0; r < reps; ++r) best = std::min(best, timer.build_ms(s.geometry));
     return best;
@@ -153,7 +170,7 @@ class EmbreeBench {
   // One device kept for repeated timed builds, so a caller can interleave them with its own.
   class BuildTimer {
    public:
-    explicit BuildTimer(int threads, bool robust = false) : robust_(robust) {
+    explicit BuildTimer(int threads, EmbreeMode mode = {}) : mode_(mode) {
       const std::string config = "threads=" + std::to_string(threads);
       device_ = rtcNewDevice(config.c_str());
       if (!device_) {
@@ -170,7 +187,7 @@ class EmbreeBench {
     // spent meanwhile.
     double build_ms(const Geometry& g, double* cpu_ms = nullptr) {
       std::vector<RTCScene> meshes;
-      RTCScene scene = new_scene(device_, g, &meshes, robust_);
+      RTCScene scene = new_scene(device_, g, &meshes, mode_);
       const double cpu_start = process_cpu_ms();
       const auto start = std::chrono::steady_clock::now();
       rtcCommitScene(scene);
@@ -183,11 +200,15 @@ class EmbreeBench {
     }
 
    private:
-    bool robust_ = false;
+    EmbreeMode mode_;
     RTCDevice device_ = nullptr;
   };
   size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }
-  bool robust() const { return robust_; }
+  bool robust() const { return mode_.robust; }
+  // The build quality's name, as --embree-quality takes it.
+  const char* quality() const {
+    return mode_.quality == RTC_BUILD_QUALITY_LOW ? "low" : mode_.quality == RTC_BUILD_QUALITY_HIGH ? "high" : "medium";
+  }
   std::string version() const {
     return std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
            std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
@@ -204,12 +225,12 @@ class EmbreeBench {
   // `meshes`, g's instances too (geometry kFirstInstance + d), over mesh scenes committed here and
   // appended to *meshes (the caller releases them).
   static RTCScene new_scene(RTCDevice device, const Geometry& g, std::vector<RTCScene>* meshes = nullptr,
-                            bool robust = false) {
-    RTCScene scene = flat_scene(device, g, robust);
+                            EmbreeMode mode = {}) {
+    RTCScene scene = flat_scene(device, g, mode);
     if (!meshes || g.instances.empty()) return scene;
     const size_t first = meshes->size();
     for (const auto& mesh : g.instance_meshes) {
-      meshes->push_back(flat_scene(device, mesh->geometry, robust));
+      meshes->push_back(flat_scene(device, mesh->geometry, mode));
       rtcCommitScene(meshes->back());
     }
     for (size_t d = 0; d < g.instances.size(); ++d) {
@@ -228,9 +249,10 @@ class EmbreeBench {
     return scene;
   }
   // A scene holding g's triangles (geometry 0) and spheres (geometry 1), not yet committed.
-  static RTCScene flat_scene(RTCDevice device, const Geometry& g, bool robust = false) {
+  static RTCScene flat_scene(RTCDevice device, const Geometry& g, EmbreeMode mode = {}) {
     RTCScene scene = rtcNewScene(device);
-    if (robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    if (mode.robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, mode.quality);
     RTCGeometry tri = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
         tri, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), g.positions.size()));
@@ -268,7 +290,7 @@ class EmbreeBench {
     out.mask = ~0u, out.id = 0, out.flags = 0;
   }
 
-  bool robust_ = false;
+  EmbreeMode mode_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;  // instanced meshes' scenes

@@ -76,11 +76,16 @@ std::vector<std::string> scene_names(const std::vector<nlohmann::ordered_json>& 
   return names;
 }
 
-// What the summary and the plot add to Embree's name: which of its modes was measured.
-std::string embree_mode(bool robust) { return robust ? " (robust mode)" : ""; }
+// What the summary and the plot add to Embree's name: which of its modes and build qualities was
+// measured (nothing for its defaults).
+std::string embree_mode(const RaysOptions& a) {
+  std::string mode = a.embree_robust ? "robust mode" : "";
+  if (a.embree_quality != "medium") mode += (mode.empty() ? "" : ", ") + a.embree_quality + " build quality";
+  return mode.empty() ? "" : " (" + mode + ")";
+}
 
 // The bar chart of every run's figures by kind of ray, one panel per thread count.
-std::string plot_body(const std::string& dat, bool ratios, int threads, bool robust) {
+std::string plot_body(const std::string& dat, bool ratios, int threads, const std::string& mode) {
   // Scene names as written (a model's underscores are no subscripts).
   std::string body = "set termoption noenhanced\nset style data histograms\nset style histogram clustered gap 1\n";
   body += "set style fill solid 0.85 border -1\nset datafile missing '?'\nset datafile separator tab\n";
@@ -94,7 +99,7 @@ std::string plot_body(const std::string& dat, bool ratios, int threads, bool rob
   for (int p = 0; p < panels; ++p) {
     const int column0 = 2 + p * int(std::size(kKinds));
     body += "set title '" + std::string(p == 0 ? "1 thread" : std::to_string(threads) + " threads") +
-            (ratios ? ": ratio to Embree 3" + embree_mode(robust) + " on the same rays" : std::string(": Mrays/s (no Embree comparison)")) + "'\n";
+            (ratios ? ": ratio to Embree 3" + mode + " on the same rays" : std::string(": Mrays/s (no Embree comparison)")) + "'\n";
     body += "plot";
     for (size_t k = 0; k < std::size(kKinds); ++k)
       body += std::string(k ? "," : "") + " '" + dat + "' using " + std::to_string(column0 + int(k)) +
@@ -131,16 +136,17 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
       }
     dat += "\n";
   }
-  const nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads},
+  nlohmann::json settings = {{"scenes", a.scenes}, {"size", a.size}, {"threads", threads},
                                    {"reps", a.reps}, {"opaque", a.opaque}, {"embree", ratios},
                                    {"embree_robust", a.embree_robust && ratios}};
+  if (ratios) settings["embree_quality"] = a.embree_quality;
   nlohmann::ordered_json j = bench_header("rays", nullptr, "", settings);
   j["runs"] = runs;  // each as --json prints it for one scene
   if (!write_text_atomic(a.out + "/rays.csv", csv.text(), error) ||
       !write_text_atomic(a.out + "/rays.dat", dat, error))
     return report_error(error);
   png = false;
-  if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads, a.embree_robust), error, &png))
+  if (!plot_png(a.out, "rays", 1100, threads > 1 ? 700 : 380, plot_body(a.out + "/rays.dat", ratios, threads, embree_mode(a)), error, &png))
     return report_error(error);
   j["outputs"] = {{"plot", png ? "rays.png" : ""}, {"data", "rays.dat"}, {"table", "rays.csv"}};
   if (!write_json(a.out + "/rays.json", j, error)) return report_error(error);
@@ -148,9 +154,9 @@ int write_outputs(const RaysOptions& a, const std::vector<nlohmann::ordered_json
 }
 
 // Several scenes: the ratios side by side, one row per scene.
-void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads, bool robust) {
+void print_summary(const std::vector<nlohmann::ordered_json>& runs, bool ratios, int threads, const std::string& mode) {
   const std::string columns = threads > 1 ? "1 thread / " + std::to_string(threads) + " threads" : "1 thread";
-  std::printf("\n%s, %s:\n%-22s", ratios ? ("ours / Embree" + embree_mode(robust)).c_str() : "Mrays/s", columns.c_str(), "scene");
+  std::printf("\n%s, %s:\n%-22s", ratios ? ("ours / Embree" + mode).c_str() : "Mrays/s", columns.c_str(), "scene");
   for (const RayKind& k : kKinds) std::printf(" %15s", k.name);
   std::printf("\n");
   const std::vector<std::string> names = scene_names(runs);
@@ -180,6 +186,8 @@ int run_rays(const RaysOptions& a) {
   if (!parse_size(a.size, width, height, error)) return report_error(error);
   if (!valid_threads(a.threads, error)) return report_error(error);
   if (a.reps < 1 || a.reps > 1000) return report_error("--reps: must be between 1 and 1000");
+  if (a.embree_quality != "low" && a.embree_quality != "medium" && a.embree_quality != "high")
+    return report_error("--embree-quality: '" + a.embree_quality + "' is not low, medium or high");
   for (const std::string& spec : a.scenes)
     if (is_scene_file(spec) && !std::filesystem::is_regular_file(spec)) return report_error(spec + ": no such file");
   if (!a.out.empty() && !prepare_out_dir(a.out, error)) return report_error(error);
@@ -202,7 +210,7 @@ int run_rays(const RaysOptions& a) {
     std::printf("%s\n", (runs.size() == 1 ? runs[0] : all).dump().c_str());
     return 0;
   }
-  if (runs.size() > 1) print_summary(runs, ratios, threads, a.embree_robust);
+  if (runs.size() > 1) print_summary(runs, ratios, threads, embree_mode(a));
   if (!a.out.empty())
     std::printf("wrote %s/rays.json, rays.csv, rays.dat%s\n", a.out.c_str(), png ? " and rays.png" : "");
   return 0;

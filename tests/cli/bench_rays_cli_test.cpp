@@ -75,7 +75,7 @@ TEST(BenchRaysCli, EmbreeRobustModeIsMeasuredAndSaid) {
   EXPECT_GT(j["embree"]["ratio_primary_vs_intersect1_1t"].get<double>(), 0.0);
   const CommandResult table = run_frameless("bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --embree-robust");
   ASSERT_EQ(table.exit_code, 0) << table.output;
-  EXPECT_NE(table.output.find(" robust, build"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find(" robust, medium quality, build"), std::string::npos) << table.output;
   const auto dir = fresh_dir("rays_robust");
   const CommandResult report = run_frameless("bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --embree-robust --out " +
                                              dir.string());
@@ -84,6 +84,39 @@ TEST(BenchRaysCli, EmbreeRobustModeIsMeasuredAndSaid) {
   const nlohmann::json saved = nlohmann::json::parse(in, nullptr, false);
   ASSERT_FALSE(saved.is_discarded());
   EXPECT_TRUE(saved["settings"]["embree_robust"].get<bool>());
+  std::filesystem::remove_all(dir);
+}
+
+// --embree-quality builds Embree's scenes at the quality named, and the run says which: high
+// (spatial splits) duplicates some of the bunny's triangle references, so Embree holds more
+// memory than at its default medium quality, for the same hits. With the quality not handed to
+// Embree the two sizes are equal.
+TEST(BenchRaysCli, EmbreeBuildQualityIsMeasuredAndSaid) {
+  const std::string args = "bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --json";
+  const nlohmann::json medium = run_json(args);
+  ASSERT_FALSE(medium.is_discarded());
+  if (!medium.contains("embree")) GTEST_SKIP() << "this build has no Embree (tools/install-deps.sh --bench)";
+  EXPECT_EQ(medium["embree"]["build_quality"].get<std::string>(), "medium");
+  const nlohmann::json high = run_json(args + " --embree-quality high");
+  ASSERT_FALSE(high.is_discarded());
+  EXPECT_EQ(high["embree"]["build_quality"].get<std::string>(), "high");
+  EXPECT_GT(high["embree"]["bytes"].get<double>(), medium["embree"]["bytes"].get<double>());
+  EXPECT_GE(high["embree"]["primary_agreement"].get<double>(), 0.99);
+  EXPECT_GE(high["embree"]["shadow_agreement"].get<double>(), 0.99);
+  const CommandResult table =
+      run_frameless("bench rays bunny --opaque --size 32x32 --reps 1 --threads 1 --embree-robust --embree-quality high");
+  ASSERT_EQ(table.exit_code, 0) << table.output;
+  EXPECT_NE(table.output.find(" robust, high quality, build"), std::string::npos) << table.output;
+  const auto dir = fresh_dir("rays_quality");
+  const CommandResult report =
+      run_frameless("bench rays bunny spheres:2000 --opaque --size 32x32 --reps 1 --threads 1 --embree-quality low --out " +
+                    dir.string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  EXPECT_NE(report.output.find("ours / Embree (low build quality)"), std::string::npos) << report.output;
+  std::ifstream in(dir / "rays.json");
+  const nlohmann::json saved = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(saved.is_discarded());
+  EXPECT_EQ(saved["settings"]["embree_quality"].get<std::string>(), "low");
   std::filesystem::remove_all(dir);
 }
 
@@ -197,7 +230,7 @@ TEST(BenchRaysCli, BadScenesAndFoldersAreOneLineAndLeaveNoReport) {
 
 TEST(BenchRaysCli, BadArgumentsAreOneLine) {
   for (const char* args : {"bench rays --reps 0", "bench rays --size 0x5", "bench rays --threads -2",
-                           "bench rays no_such_scene.json"}) {
+                           "bench rays no_such_scene.json", "bench rays --embree-quality best"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;
