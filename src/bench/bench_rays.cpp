@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "bench/bench_options.h"
@@ -68,10 +69,13 @@ double run_chunks(int threads, size_t n, const std::function<void(size_t, size_t
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The best and the worst of a figure's repetitions: on a shared machine one repetition may run
+// far slower than the next (benchmarks.md, section 31), so the report shows the spread too.
 struct Timing {
-  double best = 1e30;
-  void add(double s) { best = std::min(best, s); }
+  double best = 1e30, worst = 0.0;
+  void add(double s) { best = std::min(best, s), worst = std::max(worst, s); }
   double mrays(size_t rays) const { return double(rays) / best * 1e-6; }
+  double mrays_worst(size_t rays) const { return double(rays) / worst * 1e-6; }
 };
 
 }  // namespace
@@ -324,6 +328,10 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   j["bounce_mrays_per_s"] = bn.mrays(bounce.size());
   j["bounce_shadow_mrays_per_s_1t"] = bs1.mrays(bounce_shadow.size());
   j["bounce_shadow_mrays_per_s"] = bsn.mrays(bounce_shadow.size());
+  for (const auto& [name, t, rays] : {std::tuple<const char*, const Timing&, size_t>{"primary", p1, primary.size()},
+                                      {"shadow", s1, shadow.size()}, {"bounce", b1, bounce.size()},
+                                      {"bounce_shadow", bs1, bounce_shadow.size()}})
+    j[std::string(name) + "_mrays_per_s_1t_worst"] = t.mrays_worst(rays);
   j["packet_size"] = kPacketSize;
   j["packet_primary_mismatches"] = primary.size() - packet_same;
   j["packet_shadow_mismatches"] = shadow.size() - packet_occ_same;
@@ -386,6 +394,12 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
       e["ratio_bounce_shadow_vs_occluded1_1t"] = bs1.mrays(1) / ebs1.mrays(1);
       e["ratio_bounce_shadow_vs_occluded1"] = bsn.mrays(1) / ebsn.mrays(1);
     }
+    for (const auto& [name, t, rays] : {std::tuple<const char*, const Timing&, size_t>{"primary", ep1, primary.size()},
+                                        {"shadow", es1, shadow.size()}, {"bounce", eb1, bounce.size()},
+                                        {"bounce_shadow", ebs1, bounce_shadow.size()}})
+      e[std::string(name) + "_mrays_per_s_1t_worst"] = t.mrays_worst(rays);
+    e["bounce_mrays_per_s_1t"] = eb1.mrays(bounce.size());
+    e["bounce_shadow_mrays_per_s_1t"] = ebs1.mrays(bounce_shadow.size());
     e["primary_agreement"] = double(same_hit) / double(primary.size());
     e["shadow_agreement"] = shadow.empty() ? 1.0 : double(same_occ) / double(shadow.size());
     j["embree"] = e;
@@ -442,6 +456,12 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
                 embree.version().c_str(), embree.robust() ? " robust" : "", embree.quality(), e["build_ms_1t"].get<double>(),
                 embree.build_ms(), threads);
+    if (a.reps > 1)
+      std::printf("spread over %d repetitions, 1 thread, worst-best Mrays/s: primary %.2f-%.2f (embree %.2f-%.2f), "
+                  "bounce %.2f-%.2f (embree %.2f-%.2f)\n",
+                  a.reps, p1.mrays_worst(primary.size()), p1.mrays(primary.size()), ep1.mrays_worst(primary.size()),
+                  ep1.mrays(primary.size()), b1.mrays_worst(bounce.size()), b1.mrays(bounce.size()),
+                  eb1.mrays_worst(bounce.size()), eb1.mrays(bounce.size()));
   }
 #else
   std::printf("Embree 3 (the peer): not in this build, no ratios (tools/install-deps.sh --bench, then build again)\n");

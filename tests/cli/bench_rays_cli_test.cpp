@@ -87,6 +87,37 @@ TEST(BenchRaysCli, EmbreeRobustModeIsMeasuredAndSaid) {
   std::filesystem::remove_all(dir);
 }
 
+// Each figure's worst repetition is reported beside its best (for ours and, with Embree in the
+// build, for Embree): never above the best, and the same figure with one repetition.
+TEST(BenchRaysCli, TheWorstRepetitionIsReportedBesideTheBest) {
+  for (const int reps : {1, 3}) {
+    const nlohmann::json j =
+        run_json("bench rays spheres:5000 --size 48x48 --threads 1 --json --reps " + std::to_string(reps));
+    ASSERT_FALSE(j.is_discarded());
+    std::vector<const nlohmann::json*> sides = {&j};
+    if (j.contains("embree")) sides.push_back(&j["embree"]);
+    for (const nlohmann::json* side : sides) {
+      int spread = 0;  // figures whose repetitions differ (three clock readings are never all equal)
+      for (const char* kind : {"primary", "shadow", "bounce", "bounce_shadow"}) {
+        const std::string best = std::string(kind) + "_mrays_per_s_1t", worst = best + "_worst";
+        ASSERT_TRUE(side->contains(best) && side->contains(worst)) << worst;
+        const double b = (*side)[best].get<double>(), w = (*side)[worst].get<double>();
+        EXPECT_GT(w, 0.0) << worst;
+        if (reps == 1)
+          EXPECT_EQ(w, b) << worst;
+        else
+          EXPECT_LE(w, b) << worst;
+        spread += w < b;
+      }
+      if (reps > 1) EXPECT_GT(spread, 0);
+    }
+  }
+  const CommandResult table = run_frameless("bench rays spheres:5000 --size 32x32 --threads 1 --reps 2");
+  ASSERT_EQ(table.exit_code, 0) << table.output;
+  if (table.output.find("agreement with embree") != std::string::npos)
+    EXPECT_NE(table.output.find("spread over 2 repetitions"), std::string::npos) << table.output;
+}
+
 // --embree-quality builds Embree's scenes at the quality named, and the run says which: high
 // (spatial splits) duplicates some of the bunny's triangle references, so Embree holds more
 // memory than at its default medium quality, for the same hits. With the quality not handed to
