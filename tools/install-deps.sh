@@ -8,7 +8,8 @@ build_pkgs=(build-essential cmake ninja-build pkg-config git libglm-dev libopene
   libgtest-dev glmark2-data libjpeg62-turbo-dev libtinygltf-dev assimp-testmodels povray-examples
   libopenmpi-dev openmpi-bin libblosc-dev pybind11-dev libimgui-dev python3-dev python3-numpy)
 test_pkgs=(xvfb xauth clang libclang-rt-14-dev graphviz python3 python3-pytest)
-bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy)
+# valgrind: tools/ray_instructions.py counts instructions per ray with callgrind
+bench_pkgs=(libembree-dev gnuplot blender libopenvdb-tools python3-openvdb python3-numpy valgrind)
 # tests/data/volumes/make_vdb_fixtures.cpp (by hand only: it rewrites the OpenVDB test fixtures
 # with OpenVDB itself; frameless's own reader links none of these)
 fixtures_pkgs=(libopenvdb-dev libboost-dev libboost-iostreams-dev)
