@@ -7,7 +7,8 @@ Usage: tools/ray_instructions.py [options] FRAMELESS SCENE...
 Runs `FRAMELESS bench rays SCENE --opaque --size WxH --reps 1 --threads 1` under
 `valgrind --tool=callgrind --branch-sim=yes` (with --cache, also its cache simulation) and divides
 what callgrind counted inside each call of ours (`Accel::intersect`, `Accel::occluded`) and of
-Embree's (`rtcIntersect1`, `rtcOccluded1`) by the number of calls: the same rays on both sides.
+Embree's (`rtcIntersect1`, `rtcOccluded1`) made by the benchmark by the number of those calls:
+the same rays on both sides (ours also traces them once untimed: the same mix, counted twice).
 
 Counts are the same from run to run whatever else the machine does, where timing on a shared
 machine moves by 10 % or more (docs/benchmarks.md, sections 30 and 31): a change to the walk is
@@ -33,6 +34,7 @@ CALLS = [
     ("embree_occluded", "Embree: rtcOccluded1", r"^rtcOccluded1$"),
 ]
 PAIRS = [("ours_intersect", "embree_intersect"), ("ours_occluded", "embree_occluded")]
+BENCH_CALLER = "frameless::bench::"  # calls made by bench rays itself (its loops and Embree's wrapper)
 NAMES = {"Ir": "instructions", "Bc": "branches", "Bcm": "mispredicted", "Bi": "indirect jumps",
          "Bim": "ind. mispredicted", "Dr": "data reads", "D1mr": "L1 read misses", "DLmr": "LL read misses",
          "Dw": "data writes", "D1mw": "L1 write misses", "DLmw": "LL write misses"}
@@ -51,9 +53,10 @@ class Parser(argparse.ArgumentParser):
 def parse_callgrind(path):
     """Calls and their inclusive costs, by function of CALLS, from a callgrind output file.
 
-    Only calls from outside the function count (a walk that calls itself, through instances, is
-    one call), and each call's cost is what callgrind recorded at the call site: everything the
-    call executed, inside Embree's library too."""
+    Only the benchmark's own calls count (callers in frameless::bench): not a walk's calls of
+    itself through instances, nor a packet's fallback to single rays, so both sides are counted
+    on the bench's rays alone. Each call's cost is what callgrind recorded at the call site:
+    everything the call executed, inside Embree's library too."""
     try:
         with open(path, "rb") as f:
             text = f.read().decode("utf-8", "replace")
@@ -110,7 +113,7 @@ def parse_callgrind(path):
             except ValueError:
                 raise Failure(f"{path}:{number}: a cost that is not a number")
             for key, pattern in patterns:
-                if pattern.search(callee) and not (fn and pattern.search(fn)):
+                if pattern.search(callee) and fn and BENCH_CALLER in fn:
                     t = totals[key]
                     t["calls"] += count
                     t["cost"] = cost if t["cost"] is None else [a + b for a, b in zip(t["cost"], cost)]
