@@ -36,8 +36,8 @@ CALLS = [
 PAIRS = [("ours_intersect", "embree_intersect"), ("ours_occluded", "embree_occluded")]
 BENCH_CALLER = "frameless::bench::"  # calls made by bench rays itself (its loops and Embree's wrapper)
 NAMES = {"Ir": "instructions", "Bc": "branches", "Bcm": "mispredicted", "Bi": "indirect jumps",
-         "Bim": "ind. mispredicted", "Dr": "data reads", "D1mr": "L1 read misses", "DLmr": "LL read misses",
-         "Dw": "data writes", "D1mw": "L1 write misses", "DLmw": "LL write misses"}
+         "Bim": "ind. mispredicted", "Dr": "data reads", "D1mr": "L1 read misses", "DLmr": "L2 read misses",
+         "Dw": "data writes", "D1mw": "L1 write misses", "DLmw": "L2 write misses"}
 
 
 class Failure(Exception):
@@ -152,6 +152,19 @@ def report(scene, events, calls):
     return "\n".join(lines)
 
 
+def l2_cache():
+    """This machine's L2 (bytes, ways) as getconf reports it; 1 MiB, 16 ways when it does not."""
+    size, ways = 1 << 20, 16
+    try:
+        out = subprocess.run(["getconf", "-a"], capture_output=True, text=True).stdout
+        values = dict(line.split(None, 1) for line in out.splitlines() if len(line.split(None, 1)) == 2)
+        size = int(values.get("LEVEL2_CACHE_SIZE", size)) or size
+        ways = int(values.get("LEVEL2_CACHE_ASSOC", ways)) or ways
+    except (OSError, ValueError):
+        pass
+    return size, ways
+
+
 def run_scene(binary, scene, args):
     env = dict(os.environ)
     if args.prefetch in ("0", "1"):
@@ -160,7 +173,10 @@ def run_scene(binary, scene, args):
         out = os.path.join(tmp, "callgrind.out")
         command = ["valgrind", "--tool=callgrind", "--branch-sim=yes", f"--callgrind-out-file={out}"]
         if args.cache:
-            command.append("--cache-sim=yes")
+            # The simulated last level is this machine's L2: a tree of tens of megabytes fits the
+            # L3 of a big core, and what a ray waits on is what misses the L2.
+            size, ways = l2_cache()
+            command += ["--cache-sim=yes", f"--LL={size},{ways},64"]
         command += [binary, "bench", "rays", scene, "--opaque", "--size", args.size, "--reps", "1", "--threads", "1"]
         if sys.stderr.isatty():
             print(f"\rcounting {scene} under callgrind (minutes for a big mesh)...", end="", file=sys.stderr, flush=True)
@@ -191,7 +207,9 @@ def main():
     p.add_argument("--size", default="128x128", help="image size WxH of the rays (default 128x128)")
     p.add_argument("--prefetch", choices=["auto", "0", "1"], default="auto",
                    help="the walk's prefetching: 0 or 1 pins FRAMELESS_PREFETCH (default: the binary's policy)")
-    p.add_argument("--cache", action="store_true", help="also callgrind's cache simulation (data reads and misses)")
+    p.add_argument("--cache", action="store_true",
+                   help="also callgrind's cache simulation (data reads and writes, L1 misses, and misses of this "
+                        "machine's L2 as the simulated last level: 'LL')")
     p.add_argument("--json", action="store_true", help="print JSON instead of the table")
     p.add_argument("--parse", metavar="CALLGRIND_OUT", help="read a callgrind output file instead of running one")
     args = p.parse_args()
