@@ -30,7 +30,7 @@ const bool bench_rays_registered = register_command(
                    "give Embree's scenes RTC_SCENE_FLAG_ROBUST (its mode that keeps accuracy, the like of our "
                    "watertight test and conservative boxes) instead of its default fast mode; nothing without Embree");
       app.add_option("--embree-quality", a->embree_quality,
-                     "Embree's build quality: low (Morton), medium (its default, binned SAH) or high (with spatial "
+                     "Embree's build quality: low (its two-level index for dynamic scenes), medium (its default, binned SAH) or high (with spatial "
                      "splits, the builder a user picks for static scenes when rays matter more than build time)")
           ->capture_default_str();
       app.add_flag("--opaque", a->opaque,
