@@ -13,13 +13,13 @@ Figures are the JSON's numbers, named by their path (embree.ratio_primary_vs_int
 curve_order.phases_ms.splat); --field picks them, --preset names a usual set, and without either
 every number whose name has "ratio" in it is shown (every number when none has).
 """
-import argparse
 import json
 import os
-import shutil
 import statistics
 import subprocess
 import sys
+
+from tool_cli import Failure, OneLineParser, executable
 
 PRESETS = {
     # bench rays: ours against Embree, one thread, by kind of ray.
@@ -31,16 +31,6 @@ PRESETS = {
                   "curve_order.phases_ms.disocclusions", "curve_order.phases_ms.pixel_pass",
                   "curve_order.phases_ms.slot_pass"],
 }
-
-
-class Failure(Exception):
-    pass
-
-
-class Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line, as every frameless command's errors
-        print(f"ab_bench: {message}", file=sys.stderr)
-        sys.exit(2)
 
 
 def numbers(tree, prefix=""):
@@ -93,7 +83,7 @@ def main(argv):
         own, bench = argv[:split], argv[split + 1:]
     else:
         own, bench = argv, []
-    p = Parser(prog="ab_bench.py", usage="%(prog)s [options] A B -- BENCH ARGS...", description=__doc__.split("\n\n")[0],
+    p = OneLineParser("ab_bench", prog="ab_bench.py", usage="%(prog)s [options] A B -- BENCH ARGS...", description=__doc__.split("\n\n")[0],
                                 epilog="Example: tools/ab_bench.py --preset rays old/frameless new/frameless "
                                        "-- bench rays bunny --threads 1 --reps 2")
     p.add_argument("a", metavar="A", help="the first frameless binary")
@@ -112,8 +102,8 @@ def main(argv):
             raise Failure(f"--rounds: must be 1..1000, got {o.rounds}")
         binaries = {}
         for side, binary in (("A", o.a), ("B", o.b)):
-            found = shutil.which(binary)  # a path, or a name on PATH; not a folder
-            if not found or os.path.isdir(found):
+            found = executable(binary)
+            if not found:
                 raise Failure(f"{side}: {binary}: no such executable")
             binaries[side] = found
         envs = {"A": parse_env(o.env_a, "a"), "B": parse_env(o.env_b, "b")}

@@ -17,7 +17,6 @@ not AVX-512: build with -DFRAMELESS_ARCH=x86-64-v3 (Embree picks its AVX2 path u
 itself). Valgrind reports its own cache sizes, so the walk's prefetch policy may differ from the
 machine's: --prefetch 0 or 1 pins it (FRAMELESS_PREFETCH).
 """
-import argparse
 import json
 import os
 import re
@@ -25,6 +24,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
+
+from tool_cli import Failure, OneLineParser, executable
 
 # (key, label, pattern of the called function's name, pattern of ours it is compared with)
 CALLS = [
@@ -38,16 +39,6 @@ BENCH_CALLER = "frameless::bench::"  # calls made by bench rays itself (its loop
 NAMES = {"Ir": "instructions", "Bc": "branches", "Bcm": "mispredicted", "Bi": "indirect jumps",
          "Bim": "ind. mispredicted", "Dr": "data reads", "D1mr": "L1 read misses", "DLmr": "L2 read misses",
          "Dw": "data writes", "D1mw": "L1 write misses", "DLmw": "L2 write misses"}
-
-
-class Failure(Exception):
-    pass
-
-
-class Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line, as every frameless command's errors
-        print(f"ray_instructions: {message}", file=sys.stderr)
-        sys.exit(2)
 
 
 def parse_callgrind(path):
@@ -200,7 +191,7 @@ def run_scene(binary, scene, args):
 
 
 def main():
-    p = Parser(description="Instructions, branches and mispredictions per ray, ours against Embree (callgrind).",
+    p = OneLineParser("ray_instructions", description="Instructions, branches and mispredictions per ray, ours against Embree (callgrind).",
                usage="%(prog)s [options] FRAMELESS SCENE... | %(prog)s [--json] --parse CALLGRIND_OUT")
     p.add_argument("binary", nargs="?", help="the frameless binary (an AVX2 build: valgrind runs no AVX-512)")
     p.add_argument("scenes", nargs="*", help="scenes as bench rays takes them (default: bunny)")
@@ -225,8 +216,8 @@ def main():
         else:
             if not args.binary:
                 p.error("a frameless binary is needed (or --parse FILE)")
-            binary = args.binary if os.sep in args.binary else shutil.which(args.binary) or args.binary
-            if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+            binary = executable(args.binary)
+            if not binary:
                 raise Failure(f"{args.binary}: not an executable file")
             if not shutil.which("valgrind"):
                 raise Failure("valgrind: not installed (apt-get install valgrind)")

@@ -15,7 +15,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
-#include <tuple>
 #include <vector>
 
 #include "bench/bench_options.h"
@@ -77,6 +76,16 @@ struct Timing {
   double mrays(size_t rays) const { return double(rays) / best * 1e-6; }
   double mrays_worst(size_t rays) const { return double(rays) / worst * 1e-6; }
 };
+
+// The worst repetition of the four kinds of single rays, one thread, into `out` (ours or Embree's).
+void put_worst(nlohmann::ordered_json& out, const Timing& primary, size_t n_primary, const Timing& shadow,
+               size_t n_shadow, const Timing& bounce, size_t n_bounce, const Timing& bounce_shadow,
+               size_t n_bounce_shadow) {
+  out["primary_mrays_per_s_1t_worst"] = primary.mrays_worst(n_primary);
+  out["shadow_mrays_per_s_1t_worst"] = shadow.mrays_worst(n_shadow);
+  out["bounce_mrays_per_s_1t_worst"] = bounce.mrays_worst(n_bounce);
+  out["bounce_shadow_mrays_per_s_1t_worst"] = bounce_shadow.mrays_worst(n_bounce_shadow);
+}
 
 }  // namespace
 
@@ -210,9 +219,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   Timing p1, pn, s1, sn, pk1, pkn, sk1, skn;
 #if defined(FRAMELESS_HAVE_EMBREE)
   std::unique_ptr<EmbreeBench> embree_ptr;
-  EmbreeMode embree_mode;
-  embree_mode.robust = a.embree_robust;
-  embree_quality_of(a.embree_quality, embree_mode.quality);  // checked by run_rays
+  const EmbreeMode embree_mode{a.embree_robust, embree_quality_of(a.embree_quality)};  // the name checked by run_rays
   if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads, embree_mode);
   std::vector<EmbreeHit> ehits(primary.size());
   std::vector<uint8_t> eocc(shadow.size());
@@ -328,10 +335,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   j["bounce_mrays_per_s"] = bn.mrays(bounce.size());
   j["bounce_shadow_mrays_per_s_1t"] = bs1.mrays(bounce_shadow.size());
   j["bounce_shadow_mrays_per_s"] = bsn.mrays(bounce_shadow.size());
-  for (const auto& [name, t, rays] : {std::tuple<const char*, const Timing&, size_t>{"primary", p1, primary.size()},
-                                      {"shadow", s1, shadow.size()}, {"bounce", b1, bounce.size()},
-                                      {"bounce_shadow", bs1, bounce_shadow.size()}})
-    j[std::string(name) + "_mrays_per_s_1t_worst"] = t.mrays_worst(rays);
+  put_worst(j, p1, primary.size(), s1, shadow.size(), b1, bounce.size(), bs1, bounce_shadow.size());
   j["packet_size"] = kPacketSize;
   j["packet_primary_mismatches"] = primary.size() - packet_same;
   j["packet_shadow_mismatches"] = shadow.size() - packet_occ_same;
@@ -356,7 +360,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
     for (size_t i = 0; i < shadow.size(); ++i) same_occ += occluded[i] == eocc[i];
     e["version"] = embree.version();
     e["robust"] = embree.robust();
-    e["build_quality"] = embree.quality();
+    e["build_quality"] = a.embree_quality;
     e["build_ms"] = embree.build_ms();
     // After the ray timings: while its one-thread device lives, TBB limits the whole process.
     e["build_ms_1t"] = EmbreeBench::build_ms_with_threads(*scene, 1, std::min(a.reps, 3), embree_mode);
@@ -394,10 +398,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
       e["ratio_bounce_shadow_vs_occluded1_1t"] = bs1.mrays(1) / ebs1.mrays(1);
       e["ratio_bounce_shadow_vs_occluded1"] = bsn.mrays(1) / ebsn.mrays(1);
     }
-    for (const auto& [name, t, rays] : {std::tuple<const char*, const Timing&, size_t>{"primary", ep1, primary.size()},
-                                        {"shadow", es1, shadow.size()}, {"bounce", eb1, bounce.size()},
-                                        {"bounce_shadow", ebs1, bounce_shadow.size()}})
-      e[std::string(name) + "_mrays_per_s_1t_worst"] = t.mrays_worst(rays);
+    put_worst(e, ep1, primary.size(), es1, shadow.size(), eb1, bounce.size(), ebs1, bounce_shadow.size());
     e["bounce_mrays_per_s_1t"] = eb1.mrays(bounce.size());
     e["bounce_shadow_mrays_per_s_1t"] = ebs1.mrays(bounce_shadow.size());
     e["primary_agreement"] = double(same_hit) / double(primary.size());
@@ -454,7 +455,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
     std::printf("agreement with embree: primary %.4f, shadow %.4f (embree %s%s, %s quality, build %.1f ms on 1 "
                 "thread, %.1f ms on %d)\n",
                 e["primary_agreement"].get<double>(), e["shadow_agreement"].get<double>(),
-                embree.version().c_str(), embree.robust() ? " robust" : "", embree.quality(), e["build_ms_1t"].get<double>(),
+                embree.version().c_str(), embree.robust() ? " robust" : "", a.embree_quality.c_str(), e["build_ms_1t"].get<double>(),
                 embree.build_ms(), threads);
     if (a.reps > 1)
       std::printf("spread over %d repetitions, 1 thread, worst-best Mrays/s: primary %.2f-%.2f (embree %.2f-%.2f), "

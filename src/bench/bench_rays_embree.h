@@ -35,13 +35,9 @@ struct EmbreeMode {
   RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
 };
 
-// A build quality by name (low, medium, high); false for any other name.
-inline bool embree_quality_of(const std::string& name, RTCBuildQuality& quality) {
-  if (name == "low") quality = RTC_BUILD_QUALITY_LOW;
-  else if (name == "medium") quality = RTC_BUILD_QUALITY_MEDIUM;
-  else if (name == "high") quality = RTC_BUILD_QUALITY_HIGH;
-  else return false;
-  return true;
+// A build quality by the name --embree-quality takes (low, high; medium otherwise).
+inline RTCBuildQuality embree_quality_of(const std::string& name) {
+  return name == "low" ? RTC_BUILD_QUALITY_LOW : name == "high" ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
 }
 
 class EmbreeBench {
@@ -205,10 +201,6 @@ class EmbreeBench {
   };
   size_t bytes() const { return size_t(std::max<long long>(0, bytes_.load())); }
   bool robust() const { return mode_.robust; }
-  // The build quality's name, as --embree-quality takes it.
-  const char* quality() const {
-    return mode_.quality == RTC_BUILD_QUALITY_LOW ? "low" : mode_.quality == RTC_BUILD_QUALITY_HIGH ? "high" : "medium";
-  }
   std::string version() const {
     return std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
            std::to_string(rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
