@@ -5,15 +5,18 @@ Usage: tools/ab_bench.py [options] A B -- BENCH ARGS...
 
 Runs `A BENCH ARGS --json` and `B BENCH ARGS --json` alternately, A B B A A B ..., for --rounds
 rounds, so that a shared machine's slow and fast spells fall on both sides alike, and prints for
-each figure the median of each side, the ratio B / A and in how many rounds B's figure was the
-higher. One run's figure on a shared machine moves by 10 % or more; a change of a few percent
-shows only in the medians and the count over several rounds (docs/benchmarks.md, section 30).
+each figure the median of each side, the ratio B / A, in how many rounds B's figure was the
+higher, and p: the two-sided sign test's chance of a split at least that uneven if A and B were
+alike (rounds where they tie left out; 6 of 6 gives 0.031, 5 of 6 0.22). One run's figure on a
+shared machine moves by 10 % or more; a change of a few percent shows only in the medians and the
+count over several rounds (docs/benchmarks.md, sections 30 and 32).
 
 Figures are the JSON's numbers, named by their path (embree.ratio_primary_vs_intersect1_1t,
 curve_order.phases_ms.splat); --field picks them, --preset names a usual set, and without either
 every number whose name has "ratio" in it is shown (every number when none has).
 """
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -70,6 +73,16 @@ def run(binary, args, env, side, round_):
     except ValueError as e:
         line = f" (line {e.lineno}: {e.msg})" if isinstance(e, json.JSONDecodeError) else ""
         raise Failure(f"{side} ({binary}): its output in round {round_} is not JSON{line}")
+
+
+def sign_test_p(higher, lower):
+    """Two-sided sign test: the chance, if each round were a fair coin, of a split of higher and
+    lower rounds at least this uneven (ties are no evidence either way and are left out)."""
+    n = higher + lower
+    if n == 0:
+        return 1.0
+    tail = sum(math.comb(n, i) for i in range(min(higher, lower) + 1)) / 2 ** n
+    return min(1.0, 2.0 * tail)
 
 
 def clear_progress(progress):
@@ -132,14 +145,16 @@ def main(argv):
         print(f"ab_bench: {e}", file=sys.stderr)
         return 2
     width = max(len(f) for f in fields)
-    print(f"{'figure':<{width}}  {'A median':>10}  {'B median':>10}  {'B / A':>7}  B higher")
+    print(f"{'figure':<{width}}  {'A median':>10}  {'B median':>10}  {'B / A':>7}  B higher  {'p':>5}")
     for f in fields:
         a = [run_[f] for run_ in got["A"]]
         b = [run_[f] for run_ in got["B"]]
         ma, mb = statistics.median(a), statistics.median(b)
         ratio = f"{mb / ma:7.3f}" if ma else f"{'-':>7}"
         higher = sum(y > x for x, y in zip(a, b))
-        print(f"{f:<{width}}  {ma:10.4g}  {mb:10.4g}  {ratio}  {higher} of {o.rounds}")
+        lower = sum(y < x for x, y in zip(a, b))
+        count = f"{higher} of {o.rounds}"
+        print(f"{f:<{width}}  {ma:10.4g}  {mb:10.4g}  {ratio}  {count:<8}  {sign_test_p(higher, lower):5.3f}")
     return 0
 
 

@@ -1,7 +1,7 @@
 // tools/ab_bench.py end to end: two "builds" (wrappers around this build's binary that log each
 // run, the second moving the camera four times as far) compared on bench reproject's figures that
 // do not depend on timing, so the medians, ratios and counts are known; the runs alternate A B B A;
-// bad input is one line and exit code 2. (No timing is asserted.)
+// the sign test's p of each count; bad input is one line and exit code 2. (No timing is asserted.)
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -47,8 +47,8 @@ std::vector<std::string> row(const std::string& report, const std::string& field
 TEST(AbBench, AlternatesTheSidesAndComparesMedians) {
   const auto dir = fresh_dir("ab_bench");
   const std::string a = wrapper(dir, "A", ""), b = wrapper(dir, "B", "--degrees 2");
-  const CommandResult r = run_tool("--rounds 3 --field curve_order.moved_fraction --field curve_order.disoccluded_fraction " +
-                                   a + " " + b + " -- " + kBench);
+  const CommandResult r = run_tool("--rounds 3 --field curve_order.moved_fraction --field curve_order.disoccluded_fraction "
+                                   "--field changes " + a + " " + b + " -- " + kBench);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream log(dir / "log");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(log), {}), "ABBAAB");  // a drift falls on both sides alike
@@ -59,14 +59,21 @@ TEST(AbBench, AlternatesTheSidesAndComparesMedians) {
   const double moved = nlohmann::json::parse(direct.output)["curve_order"]["moved_fraction"].get<double>();
   const std::vector<std::string> m = row(r.output, "curve_order.moved_fraction");
   const std::vector<std::string> d = row(r.output, "curve_order.disoccluded_fraction");
-  ASSERT_EQ(m.size(), 7u) << r.output;  // figure, A, B, B / A, k "of" n
-  ASSERT_EQ(d.size(), 7u) << r.output;
+  const std::vector<std::string> c = row(r.output, "changes");
+  ASSERT_EQ(m.size(), 8u) << r.output;  // figure, A, B, B / A, k "of" n, p
+  ASSERT_EQ(d.size(), 8u) << r.output;
+  ASSERT_EQ(c.size(), 8u) << r.output;
   EXPECT_NEAR(std::stod(m[1]), moved, 1e-3 * moved) << r.output;
   EXPECT_NEAR(std::stod(m[3]), std::stod(m[2]) / std::stod(m[1]), 2e-3) << r.output;
   EXPECT_LT(std::stod(m[3]), 1.0) << r.output;
   EXPECT_EQ(m[4] + " " + m[5] + " " + m[6], "0 of 3") << r.output;
   EXPECT_GT(std::stod(d[3]), 1.0) << r.output;
   EXPECT_EQ(d[4] + " " + d[5] + " " + d[6], "3 of 3") << r.output;
+  // The sign test, two-sided: 0 or 3 of 3 rounds is a chance of 2 / 8 under no difference; a
+  // figure both sides share (the number of changes) ties every round, which is no evidence: 1.
+  EXPECT_EQ(m[7], "0.250") << r.output;
+  EXPECT_EQ(d[7], "0.250") << r.output;
+  EXPECT_EQ(c[4] + " " + c[5] + " " + c[6] + " " + c[7], "0 of 3 1.000") << r.output;
   std::filesystem::remove_all(dir);
 }
 
