@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <type_traits>
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -13,6 +15,7 @@
 #include "core/accel/accel_impl.h"
 #include "core/accel/bvh_build.h"
 #include "core/accel/bvh_build_spheres.h"
+#include "core/accel/fused_slab.h"
 #include "core/accel/instance_top.h"
 #include "core/accel/prefetch_policy.h"
 #include "core/base/huge_pages.h"
@@ -100,15 +103,22 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
 
 namespace {
 
-template <bool kAnyHit, bool kCount = false>
+// kTriangles: the geometry has triangles only and no cut-outs, so the sphere, patch and cut-out
+// paths are compiled out and the loop makes no call (its constants can stay in registers).
+// kFused: the nodes are tested in the fused form (fused_slab.h), which the ray must admit.
+template <bool kAnyHit, bool kCount = false, bool kTriangles = false, bool kFused = false>
 bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_tris,
-              const TriangleBlock* blocks, bool lane_tests, bool prefetch, const Geometry& g, const Ray& ray, Hit& hit,
-              const Accel::AlphaTest& alpha, TraversalCounts* counts = nullptr) {
+              const TriangleBlock* blocks, bool lane_tests, bool prefetch, const Geometry& g, const Ray& ray,
+              const BoxRay& br, const RootTest& root, Hit& hit, const Accel::AlphaTest& alpha,
+              TraversalCounts* counts = nullptr) {
   if (node_array.empty()) return false;
   const Bvh8Node* nodes = node_array.data();
   const Sphere* spheres = g.spheres.data();
   const uint32_t num_tris = g.num_triangles();
-  const BoxRay br = make_box_ray(ray);
+#if defined(__AVX2__)
+  FusedSlab fused;
+  if constexpr (kFused) fused = make_fused_slab(br);
+#endif
   // The shear set-up (two divisions, the lanes' constants) waits for the first triangle test: a
   // ray through an instance's box often leaves the mesh without one, and sphere-only scenes
   // never need it.
@@ -135,7 +145,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
   // and not cut out. True when an any-hit walk is done.
   auto candidate = [&](float t, float u, float v, uint32_t prim) {
     if (!(kAnyHit ? t <= tmax : closer_hit(t, prim, found, hit, ray.tmax))) return false;
-    if (alpha.opaque && !alpha_opaque(alpha, g, prim, ray, t, u, v)) return false;
+    if (!kTriangles && alpha.opaque && !alpha_opaque(alpha, g, prim, ray, t, u, v)) return false;
     if constexpr (kAnyHit) return true;
     record(t, u, v, prim);
     return false;
@@ -182,7 +192,18 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       const Bvh8Node& node = nodes[ref];
       if constexpr (kCount) ++counts->nodes;
       alignas(32) float dist[kBvhWidth];
-      uint32_t mask = intersect_children(node, br, tmin, tmax_box, dist);
+      uint32_t mask;
+      if (__builtin_expect(ref == 0, 0)) {  // the root, tested by the caller with this tmax
+        mask = root.mask;
+        std::memcpy(dist, root.dist, sizeof dist);
+      } else {
+#if defined(__AVX2__)
+        if constexpr (kFused)
+          mask = fused_children(node, fused, tmin, tmax_box, dist);
+        else
+#endif
+          mask = intersect_children(node, br, tmin, tmax_box, dist);
+      }
       // Every entered child is asked for now, so its fetch overlaps this node's work and the
       // siblings' (incoherent rays wait on each node and leaf in turn otherwise), in a tree too
       // big for the cache.
@@ -240,7 +261,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
           continue;
         }
       }
-    } else if (info & kPatchLeafBit) {
+    } else if (!kTriangles && (info & kPatchLeafBit)) {
       // Spline patches: each walks its own bottom-up BVH to Broyden's method (core/geometry/bezier.h).
       const uint32_t count = info & kLeafCountMask, first = g.first_patch();
       if constexpr (kCount) counts->prims += count;
@@ -259,7 +280,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
           record(t, u, v, first + ref + k);
         }
       }
-    } else if (info & kSphereLeafBit) {
+    } else if (!kTriangles && (info & kSphereLeafBit)) {
       const uint32_t count = info & kLeafCountMask;
       if constexpr (kCount) counts->prims += count;
       for (uint32_t k = 0; k < count; ++k) {
@@ -309,15 +330,32 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
   }
 }
 
-// Whether the ray enters any of the root's children: the walk's own first test, made before its
-// set-up, which a ray missing the whole tree (many camera rays; a third of the rays that enter
-// an instance's world box miss its mesh) then never pays.
-bool enters_tree(const std::vector<Bvh8Node>& nodes, const Ray& ray) {
-  alignas(32) float dist[kBvhWidth];
-  return !nodes.empty() && intersect_children(nodes[0], make_box_ray(ray), ray.tmin, ray.tmax * kRobustFar, dist) != 0;
+// The walk for the ray and the geometry: triangle-only or general, fused or today's slab test.
+template <bool kAnyHit, class Walk>
+bool walk_for(const Geometry& g, const Accel::AlphaTest& alpha, const Ray& ray, const Walk& walk) {
+  const bool triangles = !alpha.opaque && g.spheres.empty() && g.patches.empty();
+  using T = std::true_type;
+  using F = std::false_type;
+#if defined(__AVX2__)
+  if (fused_slab_applies(ray)) return triangles ? walk(T(), T()) : walk(F(), T());
+#endif
+  return triangles ? walk(T(), F()) : walk(F(), F());
 }
 
 }  // namespace
+
+template <bool kAnyHit>
+bool Accel::walk_tree(const Ray& ray, Hit& hit) const {
+  const Impl& im = *impl_;
+  const BoxRay br = make_box_ray(ray);
+  const RootTest root = test_root(im.nodes, br, ray);
+  if (!root.mask) return false;
+  return walk_for<kAnyHit>(*im.geom, im.alpha, ray, [&](auto triangles, auto fused) {
+    return traverse<kAnyHit, false, decltype(triangles)::value, decltype(fused)::value>(
+        im.nodes, im.leaf_tris.data(), im.blocks.data(), im.lane_tests, im.prefetch, *im.geom, ray, br, root, hit,
+        im.alpha);
+  });
+}
 
 bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
@@ -325,7 +363,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
   if (impl_->grid)
     found = impl_->grid->intersect(ray, hit);
   else
-    found = impl_->geom && enters_tree(impl_->nodes, ray) && traverse<false>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, hit, impl_->alpha);
+    found = impl_->geom && walk_tree<false>(ray, hit);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
@@ -334,22 +372,24 @@ bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
   if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
   Hit unused;
-  if (impl_->geom && enters_tree(impl_->nodes, ray) && traverse<true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, unused, impl_->alpha))
+  if (impl_->geom && walk_tree<true>(ray, unused))
     return true;
   return occluded_instances(ray, top);
 }
 
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->intersect(ray, hit, &counts);
+  const BoxRay br = make_box_ray(ray);
   return impl_->geom &&
-         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, hit, impl_->alpha, &counts);
+         traverse<false, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, br, test_root(impl_->nodes, br, ray), hit, impl_->alpha, &counts);
 }
 
 bool Accel::occluded_counted(const Ray& ray, TraversalCounts& counts) const {
   if (impl_->grid) return impl_->grid->occluded(ray, &counts);
   Hit unused;
+  const BoxRay br = make_box_ray(ray);
   return impl_->geom &&
-         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, unused, impl_->alpha, &counts);
+         traverse<true, true>(impl_->nodes, impl_->leaf_tris.data(), impl_->blocks.data(), impl_->lane_tests, impl_->prefetch, *impl_->geom, ray, br, test_root(impl_->nodes, br, ray), unused, impl_->alpha, &counts);
 }
 
 void Accel::set_alpha_test(const AlphaTest& test) { impl_->alpha = test; }

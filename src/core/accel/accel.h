@@ -69,6 +69,10 @@ class Accel {
   void build_bvh(Geometry& geom, const AccelConfig& config);
   // The top level over geom.instances (core/accel/accel_instances.cpp).
   void build_instances(Geometry& geom, const AccelConfig& config);
+  // One ray's walk of the BVH (accel.cpp): the root's test, then the walk that suits the ray and
+  // the geometry.
+  template <bool kAnyHit>
+  bool walk_tree(const Ray& ray, Hit& hit) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -96,6 +96,20 @@ inline uint32_t intersect_children(const Bvh8Node& n, const BoxRay& r, float tmi
 #endif
 }
 
+// The root's children the ray enters and their entry distances, tested before a walk's set-up:
+// a ray missing the whole tree (many camera rays; a third of the rays that enter an instance's
+// world box miss its mesh) then never pays for it, and the walk starts from this test.
+struct RootTest {
+  alignas(32) float dist[kBvhWidth];
+  uint32_t mask = 0;
+};
+
+inline RootTest test_root(const std::vector<Bvh8Node>& nodes, const BoxRay& br, const Ray& ray) {
+  RootTest r;
+  if (!nodes.empty()) r.mask = intersect_children(nodes[0], br, ray.tmin, ray.tmax * kRobustFar, r.dist);
+  return r;
+}
+
 // Puts x onto the stack above `base` kept far to near (the nearest on top, popped first); x goes
 // below the entries as near or nearer, so ties are walked in slot order. Walks push a node's
 // entered children this way, in place: a copy through a scratch array became a memcpy call.
