@@ -62,18 +62,20 @@ inline FusedSlab make_fused_slab(const BoxRay& b) {
 
 // intersect_children in the fused form: the mask of the children entered within [tmin, tmax] and
 // their entry distances. Forced inline so a walk keeps the constants in registers.
-[[gnu::always_inline]] inline uint32_t fused_children(const Bvh8Node& n, const FusedSlab& s, float tmin, float tmax,
-                                                      float* dist) {
+[[gnu::always_inline]] inline uint32_t fused_children(const Bvh8Node& n, const FusedSlab& s,
+                                                      float tmin, float tmax, float* dist) {
   const char* rows = reinterpret_cast<const char*>(n.bounds);
   const auto plane = [&](uint32_t row, __m256 inv, __m256 x) {
     return _mm256_fmsub_ps(_mm256_load_ps(reinterpret_cast<const float*>(rows + row)), inv, x);
   };
-  const __m256 tn = _mm256_max_ps(_mm256_max_ps(plane(s.near_row[0], s.inv[0], s.x_near[0]),
-                                                plane(s.near_row[1], s.inv[1], s.x_near[1])),
-                                  _mm256_max_ps(plane(s.near_row[2], s.inv[2], s.x_near[2]), _mm256_set1_ps(tmin)));
-  const __m256 tf = _mm256_min_ps(_mm256_min_ps(plane(s.far_row[0], s.inv_far[0], s.x_far[0]),
-                                                plane(s.far_row[1], s.inv_far[1], s.x_far[1])),
-                                  _mm256_min_ps(plane(s.far_row[2], s.inv_far[2], s.x_far[2]), _mm256_set1_ps(tmax)));
+  const __m256 tn = _mm256_max_ps(
+      _mm256_max_ps(plane(s.near_row[0], s.inv[0], s.x_near[0]),
+                    plane(s.near_row[1], s.inv[1], s.x_near[1])),
+      _mm256_max_ps(plane(s.near_row[2], s.inv[2], s.x_near[2]), _mm256_set1_ps(tmin)));
+  const __m256 tf = _mm256_min_ps(
+      _mm256_min_ps(plane(s.far_row[0], s.inv_far[0], s.x_far[0]),
+                    plane(s.far_row[1], s.inv_far[1], s.x_far[1])),
+      _mm256_min_ps(plane(s.far_row[2], s.inv_far[2], s.x_far[2]), _mm256_set1_ps(tmax)));
   _mm256_store_ps(dist, tn);
   return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
 }

@@ -112,7 +112,8 @@ inline auto leaf_source(const LeafTriangle* tris, uint32_t n, const BlockRay& r)
 // tmax] with t, b1, b2 set, and in `redo` the lanes exactly on an edge in single precision, for
 // the scalar test.
 template <class Source>
-[[gnu::always_inline]] inline uint32_t lane_hits(const Source& source, const BlockRay& r, uint32_t lanes, float tmin, float tmax,
+[[gnu::always_inline]]
+inline uint32_t lane_hits(const Source& source, const BlockRay& r, uint32_t lanes, float tmin, float tmax,
                           __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
   const auto run = [&](const LaneTriangle& q) {
     return watertight_lanes(q, r.neg_sx, r.neg_sy, r.sz, _mm256_set1_ps(tmin), _mm256_set1_ps(tmax), lanes, t, b1,

@@ -28,7 +28,8 @@ struct LaneTriangle {
 // The test in the lanes `lanes`, with the rays' shear (-sx, -sy, sz) and intervals [tmin, tmax].
 // Returns the lanes that hit with t, b1, b2 set; lanes exactly on an edge in single precision are
 // returned in `redo` instead, for the scalar test (which decides them in double).
-[[gnu::always_inline]] inline uint32_t watertight_lanes(const LaneTriangle& q, __m256 neg_sx, __m256 neg_sy, __m256 sz, __m256 tmin,
+[[gnu::always_inline]]
+inline uint32_t watertight_lanes(const LaneTriangle& q, __m256 neg_sx, __m256 neg_sy, __m256 sz, __m256 tmin,
                                  __m256 tmax, uint32_t lanes, __m256& t, __m256& b1, __m256& b2, uint32_t& redo) {
   const __m256 ax = _mm256_fmadd_ps(neg_sx, q.a[2], q.a[0]), ay = _mm256_fmadd_ps(neg_sy, q.a[2], q.a[1]);
   const __m256 bx = _mm256_fmadd_ps(neg_sx, q.b[2], q.b[0]), by = _mm256_fmadd_ps(neg_sy, q.b[2], q.b[1]);

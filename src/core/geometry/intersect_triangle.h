@@ -16,7 +16,8 @@ struct TriangleRay {
   float sx = 0.0f, sy = 0.0f, sz = 1.0f;
 };
 
-[[gnu::always_inline]] inline TriangleRay make_triangle_ray(const Ray& ray) {
+[[gnu::always_inline]]
+inline TriangleRay make_triangle_ray(const Ray& ray) {
   TriangleRay r;
   const Vec3 a = glm::abs(ray.dir);
   r.kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
@@ -35,7 +36,8 @@ struct TriangleRay {
 
 // Ray against triangle (p0, p1, p2) over [tmin, tmax]. On a hit returns true and sets t and the
 // barycentrics b1 (of p1) and b2 (of p2). Edges shared by two triangles are never missed by both.
-[[gnu::always_inline]] inline bool intersect_triangle(const TriangleRay& r, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+[[gnu::always_inline]]
+inline bool intersect_triangle(const TriangleRay& r, const Vec3& p0, const Vec3& p1, const Vec3& p2,
                                float tmin, float tmax, float& t, float& b1, float& b2) {
   // Coordinates relative to the origin, permuted; indexing the vertices in memory (not a
   // computed Vec3) keeps everything in registers.
