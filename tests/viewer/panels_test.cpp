@@ -128,14 +128,17 @@ TEST(Panels, ScriptsNamingPanelsAndControlsAreChecked) {
 TEST(Panels, SceneSettingsAndOpeningAFileRestartTheSession) {
   if (!have("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
   const fs::path dir = folder("session");
-  const fs::path whitted = dir / "whitted.exr", path = dir / "path.exr", opened = dir / "opened.exr";
+  const fs::path whitted = dir / "whitted.exr", path = dir / "path.exr", opened = dir / "opened.exr",
+                 camera_before = dir / "before.json", camera_after = dir / "after.json";
   const std::string mesh = std::string(FRAMELESS_TEST_DATA) + "/meshes/tetra.obj";
   std::string log;
   const int status = run_viewer_script(
       "default --size 200x120 --threads 2",
-      "0.1 key O\n2.4 screenshot " + whitted.string() + "\n2.5 set integrator igi\n2.7 set accel grid\n" +
+      "0.1 key O\n2.4 screenshot " + whitted.string() + "\n2.45 set camera.save " + camera_before.string() +
+          "\n2.5 set integrator igi\n2.7 set accel grid\n" +
           "2.8 set closed_loop on\n2.9 set mode conventional\n3.1 set mode frameless\n3.2 set shadows hard\n" +
-          "3.3 set integrator path\n5.4 screenshot " + path.string() + "\n5.5 open " + mesh +
+          "3.3 set integrator path\n5.4 screenshot " + path.string() + "\n5.45 set camera.save " +
+          camera_after.string() + "\n5.5 open " + mesh +
           "\n7.2 screenshot " + opened.string() + "\n7.3 quit\n",
       dir, &log);
   ASSERT_EQ(status, 0) << log;
@@ -145,9 +148,16 @@ TEST(Panels, SceneSettingsAndOpeningAFileRestartTheSession) {
     EXPECT_NE(log.find(line), std::string::npos) << line << "\n" << log;
   const ExrImage a = screenshot(whitted, log), b = screenshot(path, log), c = screenshot(opened, log);
   EXPECT_GT(distinct_colours(b), 100u) << log;  // the restarted engine renders the scene
-  EXPECT_GT(mean_difference(a, b), 0.01);       // light bounces: another integrator
-  EXPECT_LT(mean_difference(a, b), 0.2);        // the same scene and view
-  EXPECT_GT(mean_difference(b, c), 0.05) << log;  // another scene
+  // The same view: the camera saved before and after the restarts is the same file, and the
+  // images' structure agrees (the correlation of 10-pixel block averages: 0.93 here, -0.30 against
+  // the opened scene). Per-pixel differences do not tell: a path tracer's image 2 s after a
+  // restart under ThreadSanitizer differed by 0.22 a pixel once, its brightness offset alone by 0.11.
+  ASSERT_TRUE(fs::exists(camera_before) && fs::exists(camera_after)) << log;
+  EXPECT_EQ(slurp(camera_before), slurp(camera_after));
+  EXPECT_GT(block_correlation(a, b, 10), 0.5);
+  EXPECT_GT(block_difference(a, b, 10), 0.01);      // light bounces: another integrator (0.11 here)
+  EXPECT_GT(block_difference(b, c, 10), 0.05) << log;  // another scene (0.77 here)
+  EXPECT_LT(block_correlation(b, c, 10), 0.5) << log;
   EXPECT_NE(log.find("opened " + mesh), std::string::npos) << log;
 }
 

@@ -12,6 +12,7 @@
 #include <iterator>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "display/exr_io.h"
 
@@ -81,6 +82,25 @@ inline double mean_difference(const ExrImage& a, const ExrImage& b, int x0 = 0, 
   return n ? sum / double(n) : 0.0;
 }
 
+// Mean absolute difference of the two screenshots' averages over `block`-pixel squares (whole
+// squares only): a path tracer's per-pixel noise shrinks by the block's side, while a change of
+// scene, view or lighting moves the averages as it moves the pixels.
+inline double block_difference(const ExrImage& a, const ExrImage& b, int block) {
+  double sum = 0;
+  size_t n = 0;
+  for (const char* c : {"R", "G", "B"})
+    for (int by = 0; by + block <= a.height; by += block)
+      for (int bx = 0; bx + block <= a.width; bx += block, ++n) {
+        double d = 0;
+        for (int y = by; y < by + block; ++y)
+          for (int x = bx; x < bx + block; ++x) {
+            const size_t i = size_t(y) * size_t(a.width) + size_t(x);
+            d += a.channels.at(c)[i] - b.channels.at(c)[i];
+          }
+        sum += std::abs(d) / double(block * block);
+      }
+  return n ? sum / double(n) : 0.0;
+}
 // Mean of one channel over columns [x0, x1).
 inline double channel_mean(const ExrImage& a, const char* c, int x0, int x1) {
   double sum = 0;
@@ -88,6 +108,29 @@ inline double channel_mean(const ExrImage& a, const char* c, int x0, int x1) {
   for (int y = 0; y < a.height; ++y)
     for (int x = x0; x < std::min(x1, a.width); ++x, ++n) sum += a.channels.at(c)[size_t(y) * size_t(a.width) + size_t(x)];
   return n ? sum / double(n) : 0.0;
+}
+
+// Pearson correlation of the two screenshots' luminance averaged over `block`-pixel squares: near
+// 1 for the same view whatever its brightness or noise, lower when the content moved.
+inline double block_correlation(const ExrImage& a, const ExrImage& b, int block) {
+  std::vector<double> va, vb;
+  for (int by = 0; by + block <= a.height; by += block)
+    for (int bx = 0; bx + block <= a.width; bx += block) {
+      double sa = 0, sb = 0;
+      for (int y = by; y < by + block; ++y)
+        for (int x = bx; x < bx + block; ++x) {
+          const size_t i = size_t(y) * size_t(a.width) + size_t(x);
+          for (const char* c : {"R", "G", "B"}) sa += a.channels.at(c)[i], sb += b.channels.at(c)[i];
+        }
+      va.push_back(sa), vb.push_back(sb);
+    }
+  const double n = double(va.size());
+  double ma = 0, mb = 0;
+  for (size_t i = 0; i < va.size(); ++i) ma += va[i] / n, mb += vb[i] / n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < va.size(); ++i)
+    sab += (va[i] - ma) * (vb[i] - mb), saa += (va[i] - ma) * (va[i] - ma), sbb += (vb[i] - mb) * (vb[i] - mb);
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
 }
 
 struct ScratchCleanup : ::testing::Environment {
