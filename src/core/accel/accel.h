@@ -30,7 +30,8 @@ class Accel {
   // The same queries for n <= kPacketSize rays traced together through the tree (coherent
   // packets: neighbouring camera rays, or shadow rays from neighbouring points). Each result is
   // bit for bit what the single-ray query returns; hits[i] is reset on a miss. Packets whose
-  // rays point different ways along an axis, grids and spline patches go ray by ray.
+  // rays point different ways along an axis, grids and spline patches go ray by ray; instances'
+  // top level is walked by the packet's rays together, each instance's mesh ray by ray.
   void intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTop* top = nullptr) const;
   void occluded_packet(const Ray* rays, int n, bool* occluded, const InstanceTop* top = nullptr) const;
   // The same queries, adding their work to `counts` (the auto trial and bench accel).

@@ -369,10 +369,14 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTo
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) hits[i] = Hit{};
       traverse_packet<false>(im.nodes.data(), im.leaf_tris.data(), im.prefetch, *im.geom, im.alpha, rays, p, hits, nullptr);
-      if ((top = top_in_use(top)))  // instances ray by ray, in the order a single ray takes
-        for (int i = 0; i < n; ++i) intersect_instances(*top, rays[i], hits[i], hits[i].valid());
+      if ((top = top_in_use(top))) intersect_instances_packet(*top, rays, n, hits);
       return;
     }
+  }
+  if (im.nodes.empty() && !im.grid && (top = top_in_use(top)) && n > 1) {  // instances only
+    for (int i = 0; i < n; ++i) hits[i] = Hit{};
+    intersect_instances_packet(*top, rays, n, hits);
+    return;
   }
 #endif
   intersect_each(*this, rays, n, hits, top);
@@ -388,10 +392,14 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const Instan
     if (packet_walk(!im.grid && !im.nodes.empty(), im.geom, im.scene_size, rays, n, p)) {
       for (int i = 0; i < n; ++i) occluded[i] = false;
       traverse_packet<true>(im.nodes.data(), im.leaf_tris.data(), im.prefetch, *im.geom, im.alpha, rays, p, nullptr, occluded);
-      if ((top = top_in_use(top)))
-        for (int i = 0; i < n; ++i) occluded[i] = occluded[i] || frameless::occluded_instances(*top, rays[i]);
+      if ((top = top_in_use(top))) occluded_instances_packet(*top, rays, n, occluded);
       return;
     }
+  }
+  if (im.nodes.empty() && !im.grid && (top = top_in_use(top)) && n > 1) {  // instances only
+    for (int i = 0; i < n; ++i) occluded[i] = false;
+    occluded_instances_packet(*top, rays, n, occluded);
+    return;
   }
 #endif
   occluded_each(*this, rays, n, occluded, top);

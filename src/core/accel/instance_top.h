@@ -63,4 +63,10 @@ bool intersect_instances(const InstanceTop& top, const Ray& ray, Hit& hit, bool 
 // Any hit on the instances (shadow rays; early exit).
 bool occluded_instances(const InstanceTop& top, const Ray& ray);
 
+// The same for n <= kPacketSize rays walking the top level together, each entering the meshes on
+// its own (instance_packet.cpp); the answers equal the single-ray ones bit for bit.
+// hits[i] holds ray i's hit on flat geometry (invalid: none); occluded[i] true: already blocked.
+void intersect_instances_packet(const InstanceTop& top, const Ray* rays, int n, Hit* hits);
+void occluded_instances_packet(const InstanceTop& top, const Ray* rays, int n, bool* occluded);
+
 }  // namespace frameless
