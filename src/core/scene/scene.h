@@ -115,6 +115,9 @@ struct Scene {
   // Instances that move (JSON "motion" on an instance): offsets from their declared placement,
   // applied by the application side (Engine::animate_instances), which publishes a refit top.
   std::vector<InstanceMotion> instance_motions;
+  // Unique in the process, set by finalize_scene: per-thread caches (igi's VPL sets) key on it,
+  // since a new scene can be allocated where a freed one was.
+  uint64_t serial = 0;
 };
 
 }  // namespace frameless

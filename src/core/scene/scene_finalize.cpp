@@ -2,6 +2,8 @@
 // acceleration structure of the settings' kind built, the cut-out test installed.
 #include "core/scene/scene_finalize.h"
 
+#include <atomic>
+
 #include "core/geometry/occluders.h"
 #include "core/scene/scene_analysis.h"
 #include "core/scene/texturing.h"
@@ -36,6 +38,8 @@ void refresh_see_through(Scene& scene) {
 }
 
 void finalize_scene(Scene& scene, const AccelConfig& config) {
+  static std::atomic<uint64_t> next_serial{1};
+  scene.serial = next_serial.fetch_add(1, std::memory_order_relaxed);
   scene.features = analyse_scene(scene);
   refresh_see_through(scene);
   // Light that bounces by default only where something emits (the scene's own choice wins).

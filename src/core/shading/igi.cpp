@@ -32,6 +32,7 @@ struct VplSlot {
 // One render thread's VPL sets; rebuilt when the scene or its settings change.
 struct VplCache {
   const Scene* scene = nullptr;
+  uint64_t serial = 0;  // the address alone can be a freed scene's
   uint64_t seed = 0;
   int paths = 0, interleave = 0;
   SceneSphere sphere;
@@ -42,9 +43,10 @@ struct VplCache {
 VplCache& thread_cache(const Scene& scene) {
   thread_local VplCache cache;
   const IgiSettings& g = scene.settings.igi;
-  if (cache.scene != &scene || cache.seed != scene.settings.seed || cache.paths != g.paths ||
-      cache.interleave != g.interleave) {
+  if (cache.scene != &scene || cache.serial != scene.serial || cache.seed != scene.settings.seed ||
+      cache.paths != g.paths || cache.interleave != g.interleave) {
     cache.scene = &scene;
+    cache.serial = scene.serial;
     cache.seed = scene.settings.seed;
     cache.paths = g.paths;
     cache.interleave = g.interleave;
