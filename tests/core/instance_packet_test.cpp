@@ -161,7 +161,8 @@ TEST(InstancePacket, InstancesWithoutFlatGeometry) {
 }
 
 // The top level's packet walk itself, with rays that share nothing (random origins, directions
-// and interval ends): what each ray finds equals intersect_instances / occluded_instances.
+// and interval ends): what each ray finds equals intersect_instances / occluded_instances, and
+// the Accel's packet queries equal its single-ray ones.
 TEST(InstancePacket, IncoherentRaysWalkTheTopLevelAlike) {
   const auto s = packet_box_field(true, true);
   const InstanceTop& top = *s->accel.instance_top();
@@ -182,6 +183,19 @@ TEST(InstancePacket, IncoherentRaysWalkTheTopLevelAlike) {
     }
     intersect_instances_packet(top, rays, n, packet);
     occluded_instances_packet(top, rays, n, occluded);
+    // Through the Accel: such packets fail the packet walk's coherence test, so the flat
+    // geometry goes ray by ray and the instances' top level is walked together.
+    Hit whole[kPacketSize];
+    bool shadowed[kPacketSize];
+    s->accel.intersect_packet(rays, n, whole);
+    s->accel.occluded_packet(rays, n, shadowed);
+    for (int k = 0; k < n; ++k) {
+      Hit one;
+      const bool found = s->accel.intersect(rays[k], one);
+      ASSERT_EQ(found, whole[k].valid()) << round << " " << k;
+      if (found) EXPECT_TRUE(one.t == whole[k].t && one.prim == whole[k].prim && one.inst == whole[k].inst);
+      EXPECT_EQ(s->accel.occluded(rays[k]), shadowed[k]) << round << " " << k;
+    }
     for (int k = 0; k < n; ++k) {
       const bool found = intersect_instances(top, rays[k], single[k], false);
       ASSERT_EQ(found, packet[k].valid()) << round << " " << k;

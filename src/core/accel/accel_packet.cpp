@@ -373,8 +373,12 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTo
       return;
     }
   }
-  if (im.nodes.empty() && !im.grid && (top = top_in_use(top)) && n > 1) {  // instances only
-    for (int i = 0; i < n; ++i) hits[i] = Hit{};
+  if ((top = top_in_use(top)) && n > 1) {
+    // The flat geometry ray by ray (none: an empty top stands for no instances there), the
+    // instances' top level together.
+    static const InstanceTop kNoInstances;
+    for (int i = 0; i < n; ++i)
+      if (!intersect(rays[i], hits[i], &kNoInstances)) hits[i] = Hit{};
     intersect_instances_packet(*top, rays, n, hits);
     return;
   }
@@ -396,8 +400,9 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const Instan
       return;
     }
   }
-  if (im.nodes.empty() && !im.grid && (top = top_in_use(top)) && n > 1) {  // instances only
-    for (int i = 0; i < n; ++i) occluded[i] = false;
+  if ((top = top_in_use(top)) && n > 1) {
+    static const InstanceTop kNoInstances;
+    for (int i = 0; i < n; ++i) occluded[i] = Accel::occluded(rays[i], &kNoInstances);
     occluded_instances_packet(*top, rays, n, occluded);
     return;
   }
