@@ -357,24 +357,27 @@ bool Accel::walk_tree(const Ray& ray, Hit& hit) const {
   });
 }
 
+bool Accel::intersect_flat(const Ray& ray, Hit& hit) const {
+  hit.inst = kInvalidId;  // a hit found here is on flat geometry
+  if (impl_->grid) return impl_->grid->intersect(ray, hit);
+  return impl_->geom && walk_tree<false>(ray, hit);
+}
+
+bool Accel::occluded_flat(const Ray& ray) const {
+  if (impl_->grid) return impl_->grid->occluded(ray);
+  Hit unused;
+  return impl_->geom && walk_tree<true>(ray, unused);
+}
+
 bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
-  hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
-  bool found;
-  if (impl_->grid)
-    found = impl_->grid->intersect(ray, hit);
-  else
-    found = impl_->geom && walk_tree<false>(ray, hit);
+  bool found = intersect_flat(ray, hit);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
 }
 
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
-  if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
-  Hit unused;
-  if (impl_->geom && walk_tree<true>(ray, unused))
-    return true;
-  return occluded_instances(ray, top);
+  return occluded_flat(ray) || occluded_instances(ray, top);
 }
 
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {

@@ -74,6 +74,10 @@ class Accel {
   // the geometry.
   template <bool kAnyHit>
   bool walk_tree(const Ray& ray, Hit& hit) const;
+  // The queries on the flat geometry only (BVH or grid, no instances): packets that go ray by
+  // ray below a shared walk of the instances (accel_packet.cpp).
+  bool intersect_flat(const Ray& ray, Hit& hit) const;
+  bool occluded_flat(const Ray& ray) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

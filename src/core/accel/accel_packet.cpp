@@ -374,11 +374,9 @@ void Accel::intersect_packet(const Ray* rays, int n, Hit* hits, const InstanceTo
     }
   }
   if ((top = top_in_use(top)) && n > 1) {
-    // The flat geometry ray by ray (none: an empty top stands for no instances there), the
-    // instances' top level together.
-    static const InstanceTop kNoInstances;
+    // The flat geometry ray by ray, the instances' top level together.
     for (int i = 0; i < n; ++i)
-      if (!intersect(rays[i], hits[i], &kNoInstances)) hits[i] = Hit{};
+      if (!intersect_flat(rays[i], hits[i])) hits[i] = Hit{};
     intersect_instances_packet(*top, rays, n, hits);
     return;
   }
@@ -401,8 +399,7 @@ void Accel::occluded_packet(const Ray* rays, int n, bool* occluded, const Instan
     }
   }
   if ((top = top_in_use(top)) && n > 1) {
-    static const InstanceTop kNoInstances;
-    for (int i = 0; i < n; ++i) occluded[i] = Accel::occluded(rays[i], &kNoInstances);
+    for (int i = 0; i < n; ++i) occluded[i] = occluded_flat(rays[i]);
     occluded_instances_packet(*top, rays, n, occluded);
     return;
   }
