@@ -369,15 +369,25 @@ bool Accel::occluded_flat(const Ray& ray) const {
   return impl_->geom && walk_tree<true>(ray, unused);
 }
 
+// The flat walks written out again below rather than calling the flat queries: with the calls
+// the bunny's single shadow rays measured 0.93x (faster in 0 of 6 alternating rounds).
 bool Accel::intersect(const Ray& ray, Hit& hit, const InstanceTop* top) const {
-  bool found = intersect_flat(ray, hit);
+  hit.inst = kInvalidId;  // a hit found below is on flat geometry unless an instance says so
+  bool found;
+  if (impl_->grid)
+    found = impl_->grid->intersect(ray, hit);
+  else
+    found = impl_->geom && walk_tree<false>(ray, hit);
   // Instances after the flat geometry, within its closest hit (both orders give one answer).
   if ((top = top_in_use(top))) found = intersect_instances(*top, ray, hit, found);
   return found;
 }
 
 bool Accel::occluded(const Ray& ray, const InstanceTop* top) const {
-  return occluded_flat(ray) || occluded_instances(ray, top);
+  if (impl_->grid) return impl_->grid->occluded(ray) || occluded_instances(ray, top);
+  Hit unused;
+  if (impl_->geom && walk_tree<true>(ray, unused)) return true;
+  return occluded_instances(ray, top);
 }
 
 bool Accel::intersect_counted(const Ray& ray, Hit& hit, TraversalCounts& counts) const {
