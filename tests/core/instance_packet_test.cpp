@@ -53,8 +53,9 @@ std::unique_ptr<Scene> packet_box_field(bool coincident, bool floor) {
     placements.insert(placements.begin() + 5, placements[0]);
     placements.push_back(placements[0]);
     Geometry& g = s->geometry;
+    const uint32_t base = uint32_t(g.positions.size());  // after the floor's corners
     for (const Vec3& p : mesh->geometry.positions) g.positions.push_back(placements[1].point(p));
-    for (const UVec3& t : mesh->geometry.triangles) g.triangles.push_back(t);
+    for (const UVec3& t : mesh->geometry.triangles) g.triangles.push_back(t + base);
     g.triangle_material.insert(g.triangle_material.end(), mesh->geometry.triangles.size(), grey);
   }
   for (const Affine& a : placements) {

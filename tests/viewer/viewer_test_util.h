@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <set>
 #include <string>
@@ -82,25 +83,6 @@ inline double mean_difference(const ExrImage& a, const ExrImage& b, int x0 = 0, 
   return n ? sum / double(n) : 0.0;
 }
 
-// Mean absolute difference of the two screenshots' averages over `block`-pixel squares (whole
-// squares only): a path tracer's per-pixel noise shrinks by the block's side, while a change of
-// scene, view or lighting moves the averages as it moves the pixels.
-inline double block_difference(const ExrImage& a, const ExrImage& b, int block) {
-  double sum = 0;
-  size_t n = 0;
-  for (const char* c : {"R", "G", "B"})
-    for (int by = 0; by + block <= a.height; by += block)
-      for (int bx = 0; bx + block <= a.width; bx += block, ++n) {
-        double d = 0;
-        for (int y = by; y < by + block; ++y)
-          for (int x = bx; x < bx + block; ++x) {
-            const size_t i = size_t(y) * size_t(a.width) + size_t(x);
-            d += a.channels.at(c)[i] - b.channels.at(c)[i];
-          }
-        sum += std::abs(d) / double(block * block);
-      }
-  return n ? sum / double(n) : 0.0;
-}
 // Mean of one channel over columns [x0, x1).
 inline double channel_mean(const ExrImage& a, const char* c, int x0, int x1) {
   double sum = 0;
@@ -110,20 +92,37 @@ inline double channel_mean(const ExrImage& a, const char* c, int x0, int x1) {
   return n ? sum / double(n) : 0.0;
 }
 
-// Pearson correlation of the two screenshots' luminance averaged over `block`-pixel squares: near
-// 1 for the same view whatever its brightness or noise, lower when the content moved.
-inline double block_correlation(const ExrImage& a, const ExrImage& b, int block) {
-  std::vector<double> va, vb;
-  for (int by = 0; by + block <= a.height; by += block)
-    for (int bx = 0; bx + block <= a.width; bx += block) {
-      double sa = 0, sb = 0;
-      for (int y = by; y < by + block; ++y)
-        for (int x = bx; x < bx + block; ++x) {
-          const size_t i = size_t(y) * size_t(a.width) + size_t(x);
-          for (const char* c : {"R", "G", "B"}) sa += a.channels.at(c)[i], sb += b.channels.at(c)[i];
-        }
-      va.push_back(sa), vb.push_back(sb);
+// The averages of `channels` (summed) over `block`-pixel squares, whole squares only, row by row.
+inline std::vector<double> block_means(const ExrImage& e, int block, std::initializer_list<const char*> channels) {
+  std::vector<double> out;
+  for (int by = 0; by + block <= e.height; by += block)
+    for (int bx = 0; bx + block <= e.width; bx += block) {
+      double sum = 0;
+      for (const char* c : channels)
+        for (int y = by; y < by + block; ++y)
+          for (int x = bx; x < bx + block; ++x) sum += e.channels.at(c)[size_t(y) * size_t(e.width) + size_t(x)];
+      out.push_back(sum / double(block * block));
     }
+  return out;
+}
+
+// Mean absolute difference of the two screenshots' block averages, channel by channel: a path
+// tracer's per-pixel noise shrinks by the block's side, while a change of scene, view or lighting
+// moves the averages as it moves the pixels.
+inline double block_difference(const ExrImage& a, const ExrImage& b, int block) {
+  double sum = 0;
+  size_t n = 0;
+  for (const char* c : {"R", "G", "B"}) {
+    const std::vector<double> va = block_means(a, block, {c}), vb = block_means(b, block, {c});
+    for (size_t i = 0; i < va.size(); ++i, ++n) sum += std::abs(va[i] - vb[i]);
+  }
+  return n ? sum / double(n) : 0.0;
+}
+
+// Pearson correlation of the two screenshots' block averages of R + G + B: near 1 for the same
+// view whatever its brightness or noise, lower when the content moved.
+inline double block_correlation(const ExrImage& a, const ExrImage& b, int block) {
+  const std::vector<double> va = block_means(a, block, {"R", "G", "B"}), vb = block_means(b, block, {"R", "G", "B"});
   const double n = double(va.size());
   double ma = 0, mb = 0;
   for (size_t i = 0; i < va.size(); ++i) ma += va[i] / n, mb += vb[i] / n;

@@ -115,11 +115,7 @@ void intersect_instances_packet(const InstanceTop& top, const Ray* rays, int n, 
             const int l = lane[k];
             const Hit& h = hs[k];
             Hit& hit = hits[l];
-            // Ties: flat geometry first, then the lower instance, then the lower primitive.
-            const bool closer = !hit.valid() || h.t < best[l] ||
-                                (h.t == best[l] && hit.inst != kInvalidId &&
-                                 (i < hit.inst || (i == hit.inst && h.prim < hit.prim)));
-            if (!closer) continue;
+            if (!instance_hit_wins(h, i, hit, hit.valid(), best[l])) continue;
             hit = h;
             hit.inst = i;
             best[l] = h.t;

@@ -214,12 +214,7 @@ bool intersect_instances(const InstanceTop& top, const Ray& ray, Hit& hit, bool 
           r.tmax = best;
           Hit h;
           if (!meshes[inst.mesh]->accel.intersect(r, h)) continue;
-          // Ties: flat geometry first, then the lower instance, then the lower primitive.
-          const bool closer =
-              !found || h.t < best ||
-              (h.t == best && hit.inst != kInvalidId &&
-               (i < hit.inst || (i == hit.inst && h.prim < hit.prim)));
-          if (!closer) continue;
+          if (!instance_hit_wins(h, i, hit, found, best)) continue;
           hit = h;
           hit.inst = i;
           best = h.t;

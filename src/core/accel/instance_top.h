@@ -57,6 +57,15 @@ Result<std::shared_ptr<InstanceTop>> move_instances(const InstanceTop& from,
                                                     const AccelConfig& config = {},
                                                     InstanceUpdate* info = nullptr);
 
+// Whether hit h on instance i (a position in the top) beats `hit`, the best so far at distance
+// `best` (found: there is one): the nearer, and at an exact tie flat geometry first, then the lower
+// instance, then the lower primitive. The order does not depend on the walk, so single rays and
+// packets, which meet the instances in different orders, agree bit for bit.
+inline bool instance_hit_wins(const Hit& h, uint32_t i, const Hit& hit, bool found, float best) {
+  return !found || h.t < best ||
+         (h.t == best && hit.inst != kInvalidId && (i < hit.inst || (i == hit.inst && h.prim < hit.prim)));
+}
+
 // Closest hit on the instances within hit (found: hit already holds a closer-or-equal candidate
 // from flat geometry); hit.inst is the position in top.instances.
 bool intersect_instances(const InstanceTop& top, const Ray& ray, Hit& hit, bool found);
