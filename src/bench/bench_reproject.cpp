@@ -1,8 +1,10 @@
 // `frameless bench reproject`: reprojection alone, per camera change (see bench_reproject.h).
 #include "bench/bench_reproject.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -80,6 +82,24 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   return out;
 }
 
+// This machine's memory speed beside the changes: the best of five copies of an image's pixels
+// (16 bytes each, the size of what the pass by slot moves), milliseconds. A change then reads as
+// so many image copies, a figure that travels between machines better than milliseconds (section
+// 34 of docs/benchmarks.md: at 1280x720 the change is bound by memory on a small VM).
+double image_copy_ms(size_t pixels) {
+  std::vector<DisplayPixel> a(pixels), b(pixels);
+  for (size_t i = 0; i < pixels; ++i) a[i].epoch = uint32_t(i);
+  double best = 0.0;
+  for (int k = 0; k < 6; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::memcpy(b.data(), a.data(), pixels * sizeof(DisplayPixel));
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (k > 0 && (best == 0.0 || ms < best)) best = ms;  // the first copy touches the pages
+    a.swap(b);
+  }
+  return std::max(best, 1e-6);
+}
+
 }  // namespace
 
 int run_reproject(const ReprojectOptions& o) {
@@ -107,14 +127,18 @@ int run_reproject(const ReprojectOptions& o) {
     slots = time_changes(scene->camera, o, w, h, layout->engine_order->data(), layout->engine_slot_of.data(), points);
   if (all || o.order == "pixels") pixels = time_changes(scene->camera, o, w, h, nullptr, nullptr, points);
   const double px = double(w) * double(h);
+  const double copy_ms = image_copy_ms(size_t(w) * size_t(h));
+  const double copy_gb_per_s = 2.0 * px * double(sizeof(DisplayPixel)) / (copy_ms * 1e6);  // read + written
   if (o.json) {
     nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
                         {"degrees", o.degrees}, {"changes", o.changes},
-                        {"vector_paths", Reprojector::vector_paths()}};
+                        {"vector_paths", Reprojector::vector_paths()}, {"image_copy_ms", copy_ms},
+                        {"image_copy_gb_per_s", copy_gb_per_s}};
     for (const auto& [name, t] :
          {std::pair{"curve_order", curve}, std::pair{"slot_order", slots}, std::pair{"pixel_order", pixels}})
       if (t.median_ms > 0) {
         j[name] = {{"median_ms", t.median_ms}, {"best_ms", t.best_ms}, {"ns_per_pixel", 1e6 * t.median_ms / px},
+                   {"image_copies", t.median_ms / copy_ms},
                    {"moved_fraction", t.moved}, {"disoccluded_fraction", t.disoccluded}};
         for (int i = 0; i < ReprojectTimes::kPhases; ++i) j[name]["phases_ms"][ReprojectTimes::kNames[i]] = t.phases.ms[i];
       }
@@ -123,13 +147,15 @@ int run_reproject(const ReprojectOptions& o) {
   }
   std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d (%s paths)\n",
               o.scene.c_str(), w, h, o.degrees, o.changes, Reprojector::vector_paths());
+  std::printf("  a copy of the image's pixels (%.1f MB read, as many written) takes %.2f ms here: %.1f GB/s\n",
+              px * double(sizeof(DisplayPixel)) / 1e6, copy_ms, copy_gb_per_s);
   for (const auto& [name, t] : {std::pair{"curve (the display's)", curve}, std::pair{"engine's slot order", slots},
                                 std::pair{"pixel order", pixels}})
     if (t.median_ms > 0) {
-      std::printf("  %-27s %6.2f ms (best %.2f), %5.1f ns a pixel, %3.0f %% of a core at 30 changes/s; "
-                  "%.1f %% moved, %.2f %% disoccluded\n",
-                  name, t.median_ms, t.best_ms, 1e6 * t.median_ms / px, 3.0 * t.median_ms, 100.0 * t.moved,
-                  100.0 * t.disoccluded);
+      std::printf("  %-27s %6.2f ms (best %.2f), %5.1f ns a pixel, %.1f image copies, %3.0f %% of a core at 30 "
+                  "changes/s; %.1f %% moved, %.2f %% disoccluded\n",
+                  name, t.median_ms, t.best_ms, 1e6 * t.median_ms / px, t.median_ms / copy_ms, 3.0 * t.median_ms,
+                  100.0 * t.moved, 100.0 * t.disoccluded);
       std::printf("  %-27s splat %.2f, cracks %.2f, disocclusions %.2f, gather by pixel %.2f, by slot %.2f ms\n",
                   "  phases (medians)", t.phases.ms[ReprojectTimes::splat], t.phases.ms[ReprojectTimes::cracks],
                   t.phases.ms[ReprojectTimes::disocclusions], t.phases.ms[ReprojectTimes::pixel_pass],

@@ -1,7 +1,8 @@
 // `frameless bench reproject --json` end to end on a small image: all three orders measured, the
 // image moved as an orbit of half a degree moves it (most pixels land somewhere, few are
 // uncovered; 1280x720 gives 78 % and 4 %), its phases reported (slot order's gather in two
-// passes along the curve and in slot order), bad arguments one line each. (No timing is asserted.)
+// passes along the curve and in slot order), the change also in copies of the image's pixels (that
+// machine's memory speed), bad arguments one line each. (No timing is asserted.)
 #include <gtest/gtest.h>
 
 #include <string>
@@ -21,9 +22,15 @@ TEST(BenchReprojectCli, JsonReportsEveryOrderAndAPlausibleMove) {
   // Which vector paths ran (their costs differ by machine).
   const std::string paths = j.value("vector_paths", "");
   EXPECT_TRUE(paths == "AVX-512" || paths == "AVX2" || paths == "scalar") << r.output;
+  // The machine's copy of an image's pixels, the unit a change is also given in.
+  const double copy_ms = j.value("image_copy_ms", 0.0);
+  EXPECT_GT(copy_ms, 0.0) << r.output;
+  EXPECT_NEAR(j.value("image_copy_gb_per_s", 0.0), 2.0 * 160 * 90 * 16 / (copy_ms * 1e6), 1e-6 * j.value("image_copy_gb_per_s", 0.0));
   for (const char* order : {"curve_order", "slot_order", "pixel_order"}) {
     ASSERT_TRUE(j.contains(order)) << r.output;
     EXPECT_GT(j[order]["median_ms"].get<double>(), 0.0);
+    EXPECT_NEAR(j[order]["image_copies"].get<double>(), j[order]["median_ms"].get<double>() / copy_ms,
+                1e-9 * j[order]["image_copies"].get<double>()) << order;
     EXPECT_GT(j[order]["moved_fraction"].get<double>(), 0.5) << r.output;  // the rest: cracks closed, a band uncovered
     EXPECT_LT(j[order]["disoccluded_fraction"].get<double>(), 0.2) << r.output;
     for (const char* phase : {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"})
