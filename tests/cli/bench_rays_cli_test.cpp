@@ -23,6 +23,9 @@ TEST(BenchRaysCli, JsonReportsTheWorkOfEachKindOfRay) {
   const nlohmann::json j = nlohmann::json::parse(r.output, nullptr, false);
   ASSERT_FALSE(j.is_discarded()) << r.output;
   ASSERT_EQ(j["prims"].get<double>(), 20000.0);
+  // Build times, serial and parallel (the best of the repetitions' builds).
+  EXPECT_GT(j.value("build_ms", 0.0), 0.0) << r.output;
+  EXPECT_GT(j.value("build_ms_parallel", 0.0), 0.0) << r.output;
   for (const char* kind : {"primary", "shadow", "bounce", "bounce_shadow"}) {
     ASSERT_TRUE(j["work_per_ray"].contains(kind)) << r.output;
     const double nodes = j["work_per_ray"][kind]["nodes"], prims = j["work_per_ray"][kind]["prims"];
