@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <random>
+#include <thread>
+#include <utility>
 
 #include "core/accel/accel.h"
+#include "core/accel/bvh_build.h"
 #include "random_geometry.h"
 
 namespace frameless {
@@ -135,8 +140,8 @@ TEST(TriangleBlock, EdgeAndVertexRaysGoToTheScalarTest) {
     for (int x = 0; x < 2; ++x) {
       const Vec3 a(float(x), float(y), 0), b(float(x + 1), float(y), 0), c(float(x + 1), float(y + 1), 0),
           d(float(x), float(y + 1), 0);
-      tris.push_back({{a, b, c}});
-      tris.push_back({{a, c, d}});
+      tris.emplace_back(a, b, c);
+      tris.emplace_back(a, c, d);
     }
   const EightSingles s(tris);
   int redo_rays = 0;
@@ -184,6 +189,42 @@ TEST(TriangleBlock, NodesWithTwoSingleTriangleLeavesGetABlock) {
     EXPECT_EQ(blocks[0].v[row][1], tris[7].p[row / 3][row % 3]);
     EXPECT_EQ(blocks[0].v[row][4], tris[12].p[row / 3][row % 3]);
     EXPECT_TRUE(std::isnan(blocks[0].v[row][0]));  // unused lanes miss every ray
+  }
+}
+
+// The layout in chunks through an executor numbers the blocks as one serial walk does: the same
+// node and block bytes with chunks of a few nodes on threads in any order, as with one chunk.
+TEST(TriangleBlock, ChunkedLayoutIsTheSerialOne) {
+  Geometry g = random_triangles(91, 4000, true);
+  const uint32_t nt = g.num_triangles();
+  PrimRefArray refs = make_prim_refs(g, AccelConfig{});
+  const Bvh8 bvh = build_bvh8(refs.data(), refs.size(), nt, AccelConfig{}, nt);
+  permute_geometry(g, refs.data(), refs.size(), AccelConfig{});
+  std::vector<LeafTriangle> tris;
+  lay_out_leaf_triangles(g, AccelConfig{}, tris);
+  ASSERT_GT(bvh.nodes.size(), 100u);
+  std::vector<Bvh8Node> serial = bvh.nodes;
+  const std::vector<TriangleBlock> serial_blocks = lay_out_triangle_blocks(serial, tris, AccelConfig{});
+  ASSERT_GT(serial_blocks.size(), 20u);
+  AccelConfig threads;  // two threads taking chunks as they come
+  threads.parallel_for = [](size_t n, const std::function<void(size_t)>& body) {
+    std::atomic<size_t> next{0};
+    std::thread a([&] { for (size_t i; (i = next.fetch_add(1)) < n;) body(i); });
+    for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+    a.join();
+  };
+  AccelConfig backwards;
+  backwards.parallel_for = [](size_t n, const std::function<void(size_t)>& body) {
+    for (size_t i = n; i-- > 0;) body(i);
+  };
+  for (const auto& [config, chunk] : {std::pair{threads, size_t(7)}, std::pair{backwards, size_t(13)}}) {
+    std::vector<Bvh8Node> nodes = bvh.nodes;
+    const std::vector<TriangleBlock> blocks = lay_out_triangle_blocks(nodes, tris, config, chunk);
+    ASSERT_EQ(nodes.size(), serial.size());
+    EXPECT_EQ(std::memcmp(nodes.data(), serial.data(), nodes.size() * sizeof(Bvh8Node)), 0) << "chunk " << chunk;
+    ASSERT_EQ(blocks.size(), serial_blocks.size());
+    EXPECT_EQ(std::memcmp(blocks.data(), serial_blocks.data(), blocks.size() * sizeof(TriangleBlock)), 0)
+        << "chunk " << chunk;
   }
 }
 

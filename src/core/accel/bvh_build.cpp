@@ -420,7 +420,7 @@ void lay_out_leaf_triangles(const Geometry& g, const AccelConfig& config, std::v
     for (size_t i = begin; i < end; ++i) {
       const UVec3 t = g.triangles[i];
       const bool ok = t.x < num_pos && t.y < num_pos && t.z < num_pos;
-      out[i] = ok ? LeafTriangle{{g.positions[t.x], g.positions[t.y], g.positions[t.z]}} : LeafTriangle{{nan, nan, nan}};
+      out[i] = ok ? LeafTriangle(g.positions[t.x], g.positions[t.y], g.positions[t.z]) : LeafTriangle(nan, nan, nan);
     }
   });
 }

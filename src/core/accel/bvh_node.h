@@ -40,6 +40,10 @@ static_assert(sizeof(Bvh8Node) == 256, "Bvh8Node must stay four cache lines");
 // contiguous run, so a ray reaching a leaf waits for one fetch, not for the indices and then the
 // vertices they name (two dependent misses on a big or scattered mesh).
 struct LeafTriangle {
+  // Left unwritten: a big mesh's are hundreds of megabytes, first written (and their pages first
+  // touched) by lay_out_leaf_triangles' parallel chunks, not zeroed on one thread before them.
+  LeafTriangle() {}
+  LeafTriangle(const Vec3& a, const Vec3& b, const Vec3& c) : p{a, b, c} {}
   Vec3 p[3];
 };
 static_assert(sizeof(LeafTriangle) == 36);

@@ -20,6 +20,9 @@ namespace frameless {
 // Lane j holds the triangle of the node's slot j (rows: vertex k's axis a at 3 k + a); unused
 // lanes hold NaN corners, which every test misses.
 struct alignas(32) TriangleBlock {
+  // Left unwritten: a big mesh's blocks are hundreds of megabytes, first written (and their pages
+  // first touched) by the layout's parallel pass, not zeroed on one thread before it.
+  TriangleBlock() {}
   float v[9][kBvhWidth];
 };
 static_assert(sizeof(TriangleBlock) == 288);
@@ -34,9 +37,12 @@ inline constexpr int kMinBlockSingles = 2;
 
 // Gives every node with at least kMinBlockSingles single-triangle leaves a block (its `singles`
 // and `block`, its parent's `blocked` and `child_blocks` set) and returns the blocks; `nodes` as a
-// builder left them (those fields 0), triangles from `leaf_tris` (leaf order).
+// builder left them (those fields 0), triangles from `leaf_tris` (leaf order). Works in chunks of
+// `chunk` nodes through config.parallel_for; the result is the same bytes for any chunk size and
+// executor (tests use small chunks).
+inline constexpr size_t kBlockChunk = size_t(1) << 14;
 std::vector<TriangleBlock> lay_out_triangle_blocks(std::vector<Bvh8Node>& nodes, const std::vector<LeafTriangle>& leaf_tris,
-                                                   const AccelConfig& config);
+                                                   const AccelConfig& config, size_t chunk = kBlockChunk);
 
 // Asks for a block's cache lines (288 bytes from a 32-byte boundary: five lines at most).
 inline void prefetch_block(const TriangleBlock* b) {
