@@ -103,7 +103,6 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   // Build times, each the best of up to three builds as Embree's are (the load's own build is the
   // process's first: its fresh pages made it up to 1.5 times slower): serial, then parallel.
   const int builds = std::min(a.reps, 3);
-  AccelStats serial_stats = scene->accel.stats();
   const auto best_build = [&](const AccelConfig& config) {
     AccelStats best;
     for (int b = 0; b < builds; ++b) {
@@ -112,7 +111,7 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
     }
     return best;
   };
-  serial_stats = best_build(AccelConfig{});
+  const AccelStats serial_stats = best_build(AccelConfig{});
   AccelConfig parallel_config;
   parallel_config.parallel_for = thread_parallel_for(threads);
   const double parallel_build_ms = best_build(parallel_config).build_ms;
@@ -234,11 +233,12 @@ int rays_of_scene(const RaysOptions& a, const std::string& spec, nlohmann::order
   // Embree's one-thread build first, while no other device lives: with the main device alive
   // (N threads), a one-thread device's build ran on all N (it measured as fast as the N-thread
   // build, half of `bench build`'s one-thread time).
-  const double embree_build_1t =
-      a.no_embree ? 0.0 : EmbreeBench::build_ms_with_threads(*scene, 1, builds, embree_mode);
-  const double embree_build_nt =
-      a.no_embree ? 0.0 : EmbreeBench::build_ms_with_threads(*scene, threads, builds, embree_mode);
-  if (!a.no_embree) embree_ptr = std::make_unique<EmbreeBench>(*scene, threads, embree_mode);
+  double embree_build_1t = 0.0, embree_build_nt = 0.0;
+  if (!a.no_embree) {
+    embree_build_1t = EmbreeBench::build_ms_with_threads(*scene, 1, builds, embree_mode);
+    embree_build_nt = EmbreeBench::build_ms_with_threads(*scene, threads, builds, embree_mode);
+    embree_ptr = std::make_unique<EmbreeBench>(*scene, threads, embree_mode);
+  }
   std::vector<EmbreeHit> ehits(primary.size());
   std::vector<uint8_t> eocc(shadow.size());
   Timing ep1, epn, e81, e8n, es1, esn, es81, es8n, eb1, ebn, ebs1, ebsn;

@@ -56,13 +56,8 @@ class EmbreeBench {
       std::exit(1);
     }
     rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeBench::monitor, this);
-    const auto start = std::chrono::steady_clock::now();
     scene_ = new_scene(device_, s.geometry, &mesh_scenes_, mode);
-    const auto commit = std::chrono::steady_clock::now();
-    rtcCommitScene(scene_);
-    const auto end = std::chrono::steady_clock::now();
-    build_ms_ = std::chrono::duration<double, std::milli>(end - commit).count();
-    setup_ms_ = std::chrono::duration<double, std::milli>(commit - start).count();
+    rtcCommitScene(scene_);  // its build is timed apart (build_ms_with_threads), before this device exists
   }
   ~EmbreeBench() {
     rtcReleaseScene(scene_);
@@ -142,11 +137,6 @@ class EmbreeBench {
         h.inst == RTC_INVALID_GEOMETRY_ID ? g : g.instance_meshes[g.instances[h.inst].mesh]->geometry;
     return h.geom == 0 ? h.prim : hit_geometry.num_triangles() + h.prim;
   }
-  // rtcCommitScene alone (the BVH build, at the mode's quality); setup_ms: filling
-  // Embree's vertex, index and sphere buffers before it (a copy our build does not make).
-  double build_ms() const { return build_ms_; }
-  double setup_ms() const { return setup_ms_; }
-
   // Best of `reps` builds (rtcCommitScene of a fresh scene each time) on a device with `threads`
   // build threads (1: Embree builds on the calling thread alone), in ms; the mode as the constructor's.
   static double build_ms_with_threads(const Scene& s, int threads, int reps, EmbreeMode mode = {}) {
@@ -286,8 +276,6 @@ class EmbreeBench {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;  // instanced meshes' scenes
-  double build_ms_ = 0.0;
-  double setup_ms_ = 0.0;
   std::atomic<long long> bytes_{0};
 };
 
