@@ -3,6 +3,8 @@
 #include <map>
 #include <vector>
 
+#include "core/scene/scene_finalize.h"
+#include "frameless/thread_executor.h"
 #include "tools/command_registry.h"
 
 namespace frameless::cli {
@@ -30,6 +32,8 @@ bool register_command(const std::string& parent, const std::string& name,
 
 int main(int argc, char** argv) {
   using namespace frameless::cli;
+  // Scenes load (and their BVHs build) on every core: the same tree as one thread builds.
+  frameless::set_default_build_executor(frameless::thread_executor(0));
   CLI::App app{"frameless: an interactive ray tracer with a frameless (asynchronous) display"};
   app.set_version_flag("--version", FRAMELESS_VERSION);
   app.require_subcommand(1);

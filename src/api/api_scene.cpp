@@ -6,7 +6,9 @@
 #include "api/api_impl.h"
 #include "core/io/scene_json.h"
 #include "core/io/shader_library.h"
+#include "core/scene/scene_finalize.h"
 #include "core/scenes/scene_load.h"
+#include "frameless/thread_executor.h"
 #include "frameless/tile_render.h"
 
 namespace frameless::api {
@@ -38,9 +40,20 @@ std::string camera_problem(const Camera& c) {
   return "";
 }
 
+namespace {
+// Scenes the API loads build their BVH on every core (unless the host set an executor).
+void ensure_build_executor() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (!default_build_executor()) set_default_build_executor(thread_executor(0));
+  });
+}
+}  // namespace
+
 Result<Scene> Scene::load(const std::string& spec, const std::vector<std::string>& shader_path) {
   return guarded<Scene>([&]() -> Result<Scene> {
     std::lock_guard<std::mutex> lock(g_loading);
+    ensure_build_executor();
     set_shader_search_path(shader_path);
     auto s = load_scene(spec);
     set_shader_search_path({});
@@ -54,6 +67,7 @@ Result<Scene> Scene::load(const std::string& spec, const std::vector<std::string
 Result<Scene> Scene::from_json(const std::string& json, const std::string& base_dir) {
   return guarded<Scene>([&]() -> Result<Scene> {
     std::lock_guard<std::mutex> lock(g_loading);
+    ensure_build_executor();
     auto s = parse_scene_json(json, "<json>", base_dir);
     if (!s) return Result<Scene>::failure(s.error().message);
     auto impl = std::make_shared<Impl>();

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
-#include <thread>
 
 #include "core/scene/scene_finalize.h"
 #include "core/scenes/scene_load.h"
+#include "frameless/thread_executor.h"
 
 namespace frameless::bench {
 
@@ -85,19 +85,7 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
   return true;
 }
 
-ParallelFor thread_parallel_for(int threads) {
-  return [threads](size_t n, const std::function<void(size_t)>& body) {
-    std::atomic<size_t> next{0};
-    auto worker = [&] {
-      for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
-    };
-    std::vector<std::thread> pool;
-    const size_t extra = std::min<size_t>(size_t(std::max(threads, 1)), n) - (n > 0 ? 1 : 0);
-    for (size_t t = 0; t < extra; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-  };
-}
+ParallelFor thread_parallel_for(int threads) { return thread_executor(std::max(threads, 1)); }
 
 int hardware_threads() {
   const unsigned n = std::thread::hardware_concurrency();

@@ -3,6 +3,8 @@
 #include "core/scene/scene_finalize.h"
 
 #include <atomic>
+#include <mutex>
+#include <utility>
 
 #include "core/geometry/occluders.h"
 #include "core/scene/scene_analysis.h"
@@ -11,10 +13,20 @@
 namespace frameless {
 namespace {
 
+std::mutex& executor_mutex() {
+  static std::mutex m;
+  return m;
+}
+ParallelFor& executor_slot() {
+  static ParallelFor pf;
+  return pf;
+}
+
 // Builds the structure the settings ask for. The grid has no cut-out test, so scenes with alpha
 // cut-outs keep the BVH. Auto gets the scene's own trial: camera rays and shadow rays.
 void build_accel(Scene& scene, const AccelConfig& base) {
   AccelConfig config = base;
+  if (!config.parallel_for) config.parallel_for = default_build_executor();
   config.kind = scene.features.has_cutouts ? AccelKind::kBvh : scene.settings.accel;
   if (config.kind == AccelKind::kAuto) {
     constexpr int kW = 64, kH = 48;
@@ -30,6 +42,16 @@ void build_accel(Scene& scene, const AccelConfig& base) {
 }
 
 }  // namespace
+
+void set_default_build_executor(ParallelFor executor) {
+  std::lock_guard<std::mutex> lock(executor_mutex());
+  executor_slot() = std::move(executor);
+}
+
+ParallelFor default_build_executor() {
+  std::lock_guard<std::mutex> lock(executor_mutex());
+  return executor_slot();
+}
 
 void refresh_see_through(Scene& scene) {
   scene.see_through_volumes = false;

@@ -7,8 +7,15 @@
 namespace frameless {
 
 // Builds the acceleration structure (of kind scene.settings.accel) and analyses features. Call
-// once after loading. config supplies the build parameters; its kind is ignored.
+// once after loading. config supplies the build parameters; its kind is ignored. A config
+// without an executor builds through the default one below.
 void finalize_scene(Scene& scene, const AccelConfig& config = {});
+
+// The executor scene builds fan out through when their config brings none (empty: serial, the
+// default). The core owns no threads: the application sets one at start-up
+// (frameless/thread_executor.h), so that loading a big mesh builds on every core. Any thread.
+void set_default_build_executor(ParallelFor executor);
+ParallelFor default_build_executor();
 
 // Sets the flags of what rays composite on their way (see-through volumes, lightfields) from the
 // scene's volumes and lightfields; finalize_scene calls it, and so may code that adds
