@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <random>
 
 #include "core/volume/isosurface.h"
@@ -196,6 +198,28 @@ TEST(Generators, NamesSizesAndValues) {
     ASSERT_FALSE(r) << bad;
     EXPECT_EQ(r.error().message.find('\n'), std::string::npos);
     EXPECT_EQ(r.error().message.rfind(bad, 0), 0u) << r.error().message;
+  }
+}
+
+// Scene loading generates volumes and their macrocells through its default executor: any
+// executor (here one running the tasks backwards) must give the serial voxels and ranges.
+TEST(VolumeGenerators, AnExecutorGivesTheSerialVoxels) {
+  const ParallelFor backwards = [](size_t n, const std::function<void(size_t)>& body) {
+    for (size_t i = n; i-- > 0;) body(i);
+  };
+  for (const char* name : {"volume:marschner-lobb:33", "volume:shepp-logan:40x36x44", "volume:sphere:30"}) {
+    SCOPED_TRACE(name);
+    auto serial = make_builtin_volume(name);
+    auto parallel = make_builtin_volume(name, backwards);
+    ASSERT_TRUE(serial.ok() && parallel.ok());
+    const VolumeGrid &a = **serial, &b = **parallel;
+    ASSERT_EQ(a.bytes(), b.bytes());
+    EXPECT_EQ(std::memcmp(a.storage->data(), b.storage->data(), a.bytes()), 0);
+    EXPECT_EQ(a.min_value, b.min_value);
+    EXPECT_EQ(a.max_value, b.max_value);
+    const Macrocells ms = build_macrocells(a), mp = build_macrocells(a, 8, backwards);
+    EXPECT_EQ(ms.lo, mp.lo);
+    EXPECT_EQ(ms.hi, mp.hi);
   }
 }
 

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "core/scene/scene_finalize.h"
+
 namespace frameless {
 
 const char* volume_mode_name(VolumeMode mode) {
@@ -26,7 +28,7 @@ void place_volume(VolumeObject& v, const Affine& transform) {
     v.hi = glm::max(v.hi, w);
   }
   v.scale = std::max(max_component(glm::abs(v.lo)), max_component(glm::abs(v.hi)));
-  if (!v.cells) v.cells = std::make_shared<Macrocells>(build_macrocells(*v.grid));
+  if (!v.cells) v.cells = std::make_shared<Macrocells>(build_macrocells(*v.grid, 8, default_build_executor()));
   if (v.tf) v.set_transfer(v.tf);
 }
 

@@ -18,7 +18,7 @@ Result<std::unique_ptr<Scene>> make_volume_scene(const std::string& name) {
       grid_name = name.substr(0, last);
       mode = m;
     }
-  auto grid = make_builtin_volume(grid_name);
+  auto grid = make_builtin_volume(grid_name, default_build_executor());  // on every core, as builds
   if (!grid) return Error{grid.error().message + "; a mode may follow: :isosurface, :direct or :mip"};
   const std::string kind = grid_name.substr(7, grid_name.find(':', 7) - 7);
   auto s = std::make_unique<Scene>();
