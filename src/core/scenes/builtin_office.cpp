@@ -135,7 +135,7 @@ Result<std::unique_ptr<Scene>> make_office() {
   o.ns = o.nt = 96;
   o.spp = 1;
   for (const Vec3& viewer : {s.camera.eye, image}) {
-    auto lf = std::make_shared<LightField>(bake_lightfield(*model, slab_facing(viewer - at), o));
+    auto lf = std::make_shared<LightField>(bake_lightfield(*model, slab_facing(viewer - at), o, default_build_executor()));
     lf->source = "office sculpture (baked at load)";
     s.lightfields.push_back(place_lightfield(std::move(lf), Affine{glm::mat3(1.0f), at}));
   }
