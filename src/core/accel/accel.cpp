@@ -59,7 +59,16 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     // References and the leaf-order permutation in parallel chunks, bit for bit the serial
     // result (bvh_build.h); primitives are stored in leaf order, so a leaf is a contiguous run.
     const uint32_t nt = geom.num_triangles(), ns = geom.num_spheres();
-    PrimRefArray refs = make_prim_refs(geom, config);
+    // A mesh's references live in the pages its leaf triangles then take (36 bytes a triangle
+    // against 32 a reference): a fresh page costs more than its bytes to the kernel that clears
+    // it (benchmarks.md, section 35), and the references are dead once the geometry is permuted.
+    std::vector<LeafTriangle>().swap(im.leaf_tris);
+    PrimRef* into = nullptr;
+    if (ns == 0 && geom.num_patches() == 0 && sizeof(LeafTriangle) >= sizeof(PrimRef)) {
+      resize_huge(im.leaf_tris, nt);  // LeafTriangle() writes nothing: no page is touched yet
+      into = reinterpret_cast<PrimRef*>(im.leaf_tris.data());
+    }
+    PrimRefArray refs = make_prim_refs(geom, config, into);
     bvh = build_bvh8(refs.data(), refs.size(), nt, config, nt + ns);
     permute_geometry(geom, refs.data(), refs.size(), config);
   }

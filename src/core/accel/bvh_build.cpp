@@ -303,7 +303,9 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
 PrimRefArray::PrimRefArray(size_t n)
     : p_(n ? static_cast<PrimRef*>(::operator new(n * sizeof(PrimRef))) : nullptr), n_(n) {}
 
-void PrimRefArray::Free::operator()(PrimRef* p) const { ::operator delete(p); }
+void PrimRefArray::Free::operator()(PrimRef* p) const {
+  if (owns) ::operator delete(p);
+}
 
 namespace {
 
@@ -329,10 +331,10 @@ inline bool finite_bounds(const Vec3& lo, const Vec3& hi) {
 
 }  // namespace
 
-PrimRefArray make_prim_refs(const Geometry& g, const AccelConfig& config) {
+PrimRefArray make_prim_refs(const Geometry& g, const AccelConfig& config, PrimRef* into) {
   const uint32_t nt = g.num_triangles(), ns = g.num_spheres(), np = g.num_patches();
   const size_t n = size_t(nt) + ns + np;
-  PrimRefArray refs(n);
+  PrimRefArray refs = into ? PrimRefArray(into, n) : PrimRefArray(n);
   PrimRef* r = refs.data();
   const Vec3* pos = g.positions.data();
   const size_t num_pos = g.positions.size();
@@ -413,14 +415,16 @@ void permute_geometry(Geometry& g, const PrimRef* refs, size_t n, const AccelCon
 
 void lay_out_leaf_triangles(const Geometry& g, const AccelConfig& config, std::vector<LeafTriangle>& out) {
   const size_t n = g.num_triangles(), num_pos = g.positions.size();
-  std::vector<LeafTriangle>().swap(out);  // not two copies at the peak of a rebuild
+  if (out.capacity() < n) std::vector<LeafTriangle>().swap(out);  // not two copies at the peak of a rebuild
   resize_huge(out, n);
   const Vec3 nan(std::numeric_limits<float>::quiet_NaN());
   for_chunks(n, config, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const UVec3 t = g.triangles[i];
       const bool ok = t.x < num_pos && t.y < num_pos && t.z < num_pos;
-      out[i] = ok ? LeafTriangle(g.positions[t.x], g.positions[t.y], g.positions[t.z]) : LeafTriangle(nan, nan, nan);
+      // Constructed anew: the storage may have held the build's references (Accel::build_bvh).
+      new (&out[i]) LeafTriangle(ok ? LeafTriangle(g.positions[t.x], g.positions[t.y], g.positions[t.z])
+                                    : LeafTriangle(nan, nan, nan));
     }
   });
 }

@@ -39,11 +39,13 @@ Bvh8 build_bvh8(PrimRef* refs, size_t n, uint32_t num_triangles, const AccelConf
                 uint32_t first_patch = 0xffffffffu);
 
 // References allocated without a pass that initialises them (make_prim_refs constructs each
-// element once, in parallel when it can).
+// element once, in parallel when it can), or placed in storage the caller owns.
 class PrimRefArray {
  public:
   PrimRefArray() = default;
   explicit PrimRefArray(size_t n);
+  // n references at `borrowed` (at least n * sizeof(PrimRef) bytes, kept by the caller).
+  PrimRefArray(PrimRef* borrowed, size_t n) : p_(borrowed, Free{false}), n_(n) {}
   PrimRef* data() { return p_.get(); }
   const PrimRef* data() const { return p_.get(); }
   size_t size() const { return n_; }
@@ -52,6 +54,9 @@ class PrimRefArray {
 
  private:
   struct Free {
+    Free() : owns(true) {}
+    explicit Free(bool own) : owns(own) {}
+    bool owns;
     void operator()(PrimRef* p) const;
   };
   std::unique_ptr<PrimRef[], Free> p_;
@@ -62,8 +67,9 @@ class PrimRefArray {
 // their vertices), then spheres (centre +- |radius|), then spline patches; a primitive whose
 // bounds are not finite, or a triangle with a vertex index out of range, gets a point box at the
 // origin (its intersection test misses). Filled in parallel chunks through config.parallel_for
-// when given and the geometry is large.
-PrimRefArray make_prim_refs(const Geometry& geom, const AccelConfig& config);
+// when given and the geometry is large. `into`: storage for them that the caller owns (else
+// the array allocates its own).
+PrimRefArray make_prim_refs(const Geometry& geom, const AccelConfig& config, PrimRef* into = nullptr);
 
 // Reorders geom's triangles, spheres and patches, with their per-primitive arrays of the same
 // length (materials, opposite vertices), into the order build_bvh8 left refs in, which leaf
@@ -73,7 +79,8 @@ void permute_geometry(Geometry& geom, const PrimRef* refs, size_t n, const Accel
 
 // out[i] <- the three vertices of triangle i (call after permute_geometry: in leaf order); a
 // triangle with a vertex index out of range gets NaN corners, which every test misses. In
-// parallel chunks like permute_geometry.
+// parallel chunks like permute_geometry. Storage `out` already has (its capacity) is reused
+// whatever it held.
 void lay_out_leaf_triangles(const Geometry& geom, const AccelConfig& config, std::vector<LeafTriangle>& out);
 
 // Kind of primitive id: 0 triangle, 1 sphere, 2 patch.
