@@ -72,6 +72,9 @@ int run_accel(const AccelOptions& a) {
   if (!parse_size(a.size, w, h, error)) return report_error(error);
   if (a.repeats < 1 || a.repeats > 100) return report_error("--repeats: must be 1..100");
   if (!a.out.empty() && !prepare_out_dir(a.out, error)) return report_error(error);
+  // Both structures built on one thread (the grid's builder is serial): their build times are
+  // compared side by side.
+  const ScopedBuildExecutor one_thread({});
   nlohmann::json j = bench_header("accel", nullptr, "", {{"size", a.size}, {"repeats", a.repeats}});
   for (const std::string& spec : a.scenes) {
     bench_progress("accel", spec + ": loading");

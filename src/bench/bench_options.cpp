@@ -87,6 +87,11 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 
 ParallelFor thread_parallel_for(int threads) { return thread_executor(std::max(threads, 1)); }
 
+ScopedBuildExecutor::ScopedBuildExecutor(ParallelFor executor) : before_(default_build_executor()) {
+  set_default_build_executor(std::move(executor));
+}
+ScopedBuildExecutor::~ScopedBuildExecutor() { set_default_build_executor(std::move(before_)); }
+
 int hardware_threads() {
   const unsigned n = std::thread::hardware_concurrency();
   return n ? int(n) : 1;

@@ -45,6 +45,19 @@ int hardware_threads();
 // The executor the core's parallel work runs through (core/base/parallel_for.h): up to `threads`
 // threads per call (the caller and threads - 1 new ones), taking indices from a shared counter.
 ParallelFor thread_parallel_for(int threads);
+// Scene loads and set_accel inside this scope build through `executor` (empty: on one thread),
+// for benchmarks that report build times; the process's default (every core in the frameless
+// command) comes back at its end.
+class ScopedBuildExecutor {
+ public:
+  explicit ScopedBuildExecutor(ParallelFor executor);
+  ~ScopedBuildExecutor();
+  ScopedBuildExecutor(const ScopedBuildExecutor&) = delete;
+  ScopedBuildExecutor& operator=(const ScopedBuildExecutor&) = delete;
+
+ private:
+  ParallelFor before_;
+};
 // Checks a --threads value (0 = all cores, up to 1024); false with a one-line message otherwise.
 bool valid_threads(int threads, std::string& error);
 
