@@ -62,9 +62,10 @@ void Accel::build_bvh(Geometry& geom, const AccelConfig& config) {
     // A mesh's references live in the pages its leaf triangles then take (36 bytes a triangle
     // against 32 a reference): a fresh page costs more than its bytes to the kernel that clears
     // it (benchmarks.md, section 35), and the references are dead once the geometry is permuted.
+    static_assert(sizeof(LeafTriangle) >= sizeof(PrimRef), "a triangle's storage holds its reference");
     std::vector<LeafTriangle>().swap(im.leaf_tris);
     PrimRef* into = nullptr;
-    if (ns == 0 && geom.num_patches() == 0 && sizeof(LeafTriangle) >= sizeof(PrimRef)) {
+    if (ns == 0 && geom.num_patches() == 0) {
       resize_huge(im.leaf_tris, nt);  // LeafTriangle() writes nothing: no page is touched yet
       into = reinterpret_cast<PrimRef*>(im.leaf_tris.data());
     }

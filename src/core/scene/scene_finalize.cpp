@@ -3,7 +3,7 @@
 #include "core/scene/scene_finalize.h"
 
 #include <atomic>
-#include <mutex>
+#include <memory>
 #include <utility>
 
 #include "core/geometry/occluders.h"
@@ -13,13 +13,11 @@
 namespace frameless {
 namespace {
 
-std::mutex& executor_mutex() {
-  static std::mutex m;
-  return m;
-}
-ParallelFor& executor_slot() {
-  static ParallelFor pf;
-  return pf;
+// The default executor, swapped whole: a load copies the one it finds, so a later set (a
+// benchmark's scope) never changes an executor while a build runs through it.
+std::atomic<std::shared_ptr<const ParallelFor>>& executor_slot() {
+  static std::atomic<std::shared_ptr<const ParallelFor>> slot;
+  return slot;
 }
 
 // Builds the structure the settings ask for. The grid has no cut-out test, so scenes with alpha
@@ -44,13 +42,12 @@ void build_accel(Scene& scene, const AccelConfig& base) {
 }  // namespace
 
 void set_default_build_executor(ParallelFor executor) {
-  std::lock_guard<std::mutex> lock(executor_mutex());
-  executor_slot() = std::move(executor);
+  executor_slot().store(executor ? std::make_shared<const ParallelFor>(std::move(executor)) : nullptr);
 }
 
 ParallelFor default_build_executor() {
-  std::lock_guard<std::mutex> lock(executor_mutex());
-  return executor_slot();
+  const std::shared_ptr<const ParallelFor> pf = executor_slot().load();
+  return pf ? *pf : ParallelFor{};
 }
 
 void refresh_see_through(Scene& scene) {
