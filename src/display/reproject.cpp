@@ -96,6 +96,50 @@ uint32_t Reprojector::farthest_in_rows(int x, int y, int w, int h, int r) {
 }
 
 #if defined(__AVX512F__)
+// Sixteen of the engine's world points (EngineBatch) projected as Projector does (the same fused
+// operations, so the same pixels, depths and fractions) and landed as land() lands them.
+void Reprojector::land_engine16(const Projector& to, const EngineBatch& b, int w) {
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i obj = _mm512_load_si512(b.object);
+  const __mmask16 sky = _mm512_cmpeq_epi32_mask(obj, _mm512_set1_epi32(int(kPointSky)));
+  const __mmask16 none = _mm512_cmpeq_epi32_mask(obj, _mm512_set1_epi32(int(kPointNone)));
+  const __mmask16 moving = _mm512_cmpge_epu32_mask(obj, _mm512_set1_epi32(int(kPointDynamic)));
+  // d = p - eye, the sky's p itself (a direction)
+  const __m512 dx = _mm512_mask_sub_ps(_mm512_load_ps(b.x), __mmask16(~sky), _mm512_load_ps(b.x), _mm512_set1_ps(to.eye.x));
+  const __m512 dy = _mm512_mask_sub_ps(_mm512_load_ps(b.y), __mmask16(~sky), _mm512_load_ps(b.y), _mm512_set1_ps(to.eye.y));
+  const __m512 dz = _mm512_mask_sub_ps(_mm512_load_ps(b.z), __mmask16(~sky), _mm512_load_ps(b.z), _mm512_set1_ps(to.eye.z));
+  const auto dot = [&](const Vec3& a) {  // dot_exact(d, a)
+    return _mm512_fmadd_ps(dx, _mm512_set1_ps(a.x),
+                           _mm512_fmadd_ps(dy, _mm512_set1_ps(a.y), _mm512_mul_ps(dz, _mm512_set1_ps(a.z))));
+  };
+  const __m512 z = dot(to.w);
+  const __m512 inv = _mm512_div_ps(_mm512_set1_ps(1.0f), z);
+  const __m512 sx = _mm512_fmadd_ps(dot(to.x), inv, _mm512_set1_ps(to.cx));
+  const __m512 sy = _mm512_fnmadd_ps(dot(to.y), inv, _mm512_set1_ps(to.cy));
+  __mmask16 in = __mmask16(~none & ((1u << b.count) - 1u)) & _mm512_cmp_ps_mask(z, zero, _CMP_GT_OQ);
+  in &= _mm512_cmp_ps_mask(sx, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sx, _mm512_set1_ps(to.width), _CMP_LT_OQ);
+  in &= _mm512_cmp_ps_mask(sy, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(sy, _mm512_set1_ps(to.height), _CMP_LT_OQ);
+  if (!in) return;
+  // view_kind_of: static 2, sky 1, moving 3 (none never lands)
+  __m512i kind = _mm512_mask_mov_epi32(_mm512_set1_epi32(int(kViewStatic)), sky, _mm512_set1_epi32(int(kViewSky)));
+  kind = _mm512_mask_mov_epi32(kind, moving, _mm512_set1_epi32(int(kViewMoving)));
+  const __m512i ix = _mm512_cvttps_epi32(sx), iy = _mm512_cvttps_epi32(sy);
+  const __m512 scale = _mm512_set1_ps(kViewFractionScale);
+  const __m512i qx = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sx, _mm512_cvtepi32_ps(ix)), scale));
+  const __m512i qy = _mm512_cvttps_epi32(_mm512_mul_ps(_mm512_sub_ps(sy, _mm512_cvtepi32_ps(iy)), scale));
+  alignas(64) uint32_t target[16], word[16], depth[16];
+  _mm512_store_si512(target, _mm512_add_epi32(_mm512_mullo_epi32(iy, _mm512_set1_epi32(w)), ix));
+  _mm512_store_si512(word, _mm512_or_si512(_mm512_or_si512(qx, _mm512_slli_epi32(qy, kViewFractionBits)),
+                                           _mm512_slli_epi32(kind, kViewKindShift)));
+  _mm512_store_ps(depth, _mm512_mask_mov_ps(z, sky, _mm512_set1_ps(std::numeric_limits<float>::infinity())));
+  for (unsigned m = in; m; m &= m - 1u) {
+    const int i = __builtin_ctz(m);
+    uint64_t& k = key_[target[i]];
+    k = std::min(k, uint64_t(depth[i]) << 32 | b.source[i]);
+    moved_[b.source[i]] = word[i];
+  }
+}
+
 // The splat 16 pixels a step: their view points split into depths and bits, moved as ViewMove
 // does (the same fused operations, so the same pixels, depths and fractions), then each landed
 // point's key kept if nearer (a minimum: the lanes' order does not matter). Unmarked pixels (the
@@ -113,6 +157,7 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
   const __m512i sky = _mm512_set1_epi32(int(kViewSky));
   alignas(64) uint32_t target[16];
   alignas(64) uint64_t mine[16];
+  EngineBatch batch;
   const __m512i spare = _mm512_set1_epi32(int(from.pixels()));  // key_[pixels]: written, never read
   uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
   for (size_t p = 0; p < n; p += 16, x0 += 16) {
@@ -181,8 +226,17 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
         k = std::min(k, mine[i]);
       }
     }
-    for (unsigned m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
+    // Their world points read now (each under its lock), projected sixteen at a time: one at a
+    // time they cost three times the reads (66 against 27 cycles a point, 47 k points a change).
+    for (unsigned m = engine; m; m &= m - 1u) {
+      const size_t q = p + __builtin_ctz(m);
+      const ScenePoint point = engine_point(from, q);
+      batch.x[batch.count] = point.p.x, batch.y[batch.count] = point.p.y, batch.z[batch.count] = point.p.z;
+      batch.object[batch.count] = point.object, batch.source[batch.count] = uint32_t(q);
+      if (++batch.count == 16) land_engine16(mv.to, batch, w), batch.count = 0;
+    }
   }
+  if (batch.count) land_engine16(mv.to, batch, w);
   return n;
 }
 #endif

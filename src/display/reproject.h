@@ -120,6 +120,15 @@ class Reprojector {
   uint32_t farther(uint32_t a, uint32_t b) const;
   bool vector_window(int r) const;
   size_t splat16(const ViewMove& move, const SlotImage& from, int w);
+  // Up to sixteen (AVX2: eight) of the engine's world points (unmarked pixels) waiting to be
+  // landed together (land_engine16, land_engine8).
+  struct alignas(64) EngineBatch {
+    float x[16], y[16], z[16];
+    uint32_t object[16], source[16];
+    int count = 0;
+  };
+  void land_engine16(const Projector& to, const EngineBatch& batch, int w);
+  void land_engine8(const Projector& to, const EngineBatch& batch, int w);
   void crack(uint32_t t, int w, int h);
   void cracks16(int w, int h);
   // The AVX2 forms of splat16, cracks16 and the vector window (reproject_avx2.cpp), for cores

@@ -23,6 +23,63 @@ inline uint32_t zero_bytes(const uint8_t* p) {
 
 }  // namespace
 
+// land_engine16 eight points at a time: the batch's (at most eight), projected as Projector does
+// and landed as land() lands them.
+void Reprojector::land_engine8(const Projector& to, const EngineBatch& b, int w) {
+  const int first = 0, count = b.count;
+  if (count <= 0) return;
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i obj = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.object + first));
+  const __m256 sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(obj, _mm256_set1_epi32(int(kPointSky))));
+  const __m256i none = _mm256_cmpeq_epi32(obj, _mm256_set1_epi32(int(kPointNone)));
+  // object >= kPointDynamic (unsigned): the largest of the two is the object
+  const __m256i moving = _mm256_cmpeq_epi32(_mm256_max_epu32(obj, _mm256_set1_epi32(int(kPointDynamic))), obj);
+  // d = p - eye, the sky's p itself (a direction)
+  const auto diff = [&](const float* c, float e) {
+    const __m256 v = _mm256_load_ps(c + first);
+    return _mm256_blendv_ps(_mm256_sub_ps(v, _mm256_set1_ps(e)), v, sky);
+  };
+  const __m256 dx = diff(b.x, to.eye.x), dy = diff(b.y, to.eye.y), dz = diff(b.z, to.eye.z);
+  const auto dot = [&](const Vec3& a) {  // dot_exact(d, a)
+    return _mm256_fmadd_ps(dx, _mm256_set1_ps(a.x),
+                           _mm256_fmadd_ps(dy, _mm256_set1_ps(a.y), _mm256_mul_ps(dz, _mm256_set1_ps(a.z))));
+  };
+  const __m256 z = dot(to.w);
+  const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
+  const __m256 sx = _mm256_fmadd_ps(dot(to.x), inv, _mm256_set1_ps(to.cx));
+  const __m256 sy = _mm256_fnmadd_ps(dot(to.y), inv, _mm256_set1_ps(to.cy));
+  __m256 in = _mm256_cmp_ps(z, zero, _CMP_GT_OQ);
+  in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sx, zero, _CMP_GE_OQ),
+                                       _mm256_cmp_ps(sx, _mm256_set1_ps(to.width), _CMP_LT_OQ)));
+  in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sy, zero, _CMP_GE_OQ),
+                                       _mm256_cmp_ps(sy, _mm256_set1_ps(to.height), _CMP_LT_OQ)));
+  const uint32_t landed = uint32_t(_mm256_movemask_ps(_mm256_andnot_ps(_mm256_castsi256_ps(none), in))) &
+                          ((1u << count) - 1u);
+  if (!landed) return;
+  // view_kind_of: static 2, sky 1, moving 3 (none never lands)
+  __m256i kind = _mm256_blendv_epi8(_mm256_set1_epi32(int(kViewStatic)), _mm256_set1_epi32(int(kViewSky)),
+                                    _mm256_castps_si256(sky));
+  kind = _mm256_blendv_epi8(kind, _mm256_set1_epi32(int(kViewMoving)), moving);
+  const __m256i ix = _mm256_cvttps_epi32(sx), iy = _mm256_cvttps_epi32(sy);
+  const __m256 scale = _mm256_set1_ps(kViewFractionScale);
+  const __m256i qx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sx, _mm256_cvtepi32_ps(ix)), scale));
+  const __m256i qy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(sy, _mm256_cvtepi32_ps(iy)), scale));
+  alignas(32) uint32_t target[8], word[8], depth[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(target), _mm256_add_epi32(_mm256_mullo_epi32(iy, _mm256_set1_epi32(w)), ix));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(word),
+                     _mm256_or_si256(_mm256_or_si256(qx, _mm256_slli_epi32(qy, kViewFractionBits)),
+                                     _mm256_slli_epi32(kind, kViewKindShift)));
+  _mm256_store_ps(reinterpret_cast<float*>(depth),
+                  _mm256_blendv_ps(z, _mm256_set1_ps(std::numeric_limits<float>::infinity()), sky));
+  for (uint32_t m = landed; m; m &= m - 1u) {
+    const int i = __builtin_ctz(m);
+    const uint32_t source = b.source[first + i];
+    uint64_t& k = key_[target[i]];
+    k = std::min(k, uint64_t(depth[i]) << 32 | source);
+    moved_[source] = word[i];
+  }
+}
+
 // splat16 eight pixels a step: two vectors of four view points split into depths and bits,
 // moved with ViewMove's fused operations, then each landed point's key kept if nearer (a minimum:
 // the order of the lanes does not matter); unmarked pixels go to splat_one.
@@ -37,6 +94,7 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
   const __m256i sky = _mm256_set1_epi32(int(kViewSky));
   alignas(32) uint32_t target[8];
   alignas(32) uint64_t mine[8];
+  EngineBatch batch;
   const __m256i spare = _mm256_set1_epi32(int(from.pixels()));  // key_[pixels]: written, never read
   uint32_t x0 = 0, y0 = 0;  // pixel p's column and row
   for (size_t p = 0; p < n; p += 8, x0 += 8) {
@@ -114,8 +172,16 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
         k = std::min(k, mine[i]);
       }
     }
-    for (uint32_t m = engine; m; m &= m - 1u) splat_one(mv, from, p + __builtin_ctz(m), w);
+    // Their world points read now, projected eight at a time (as splat16 does).
+    for (uint32_t m = engine; m; m &= m - 1u) {
+      const size_t q = p + __builtin_ctz(m);
+      const ScenePoint point = engine_point(from, q);
+      batch.x[batch.count] = point.p.x, batch.y[batch.count] = point.p.y, batch.z[batch.count] = point.p.z;
+      batch.object[batch.count] = point.object, batch.source[batch.count] = uint32_t(q);
+      if (++batch.count == 8) land_engine8(mv.to, batch, w), batch.count = 0;
+    }
   }
+  land_engine8(mv.to, batch, w);
   return n;
 }
 
