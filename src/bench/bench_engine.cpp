@@ -136,8 +136,10 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   r.reprojections_per_s = double(s1.reproject.reprojections - s0.reproject.reprojections) / wall;
   r.reproject_fraction = (s1.reproject.cpu_seconds - s0.reproject.cpu_seconds) / wall;
   const double moves = double(s1.reproject.reprojections - s0.reproject.reprojections);
-  for (int i = 0; i < ReprojectTimes::kPhases; ++i)
+  for (int i = 0; i < ReprojectTimes::kPhases; ++i) {
     r.phases.ms[i] = moves > 0 ? (s1.reproject.phase_ms.ms[i] - s0.reproject.phase_ms.ms[i]) / moves : 0.0;
+    r.phases.cpu_ms[i] = moves > 0 ? (s1.reproject.phase_ms.cpu_ms[i] - s0.reproject.phase_ms.cpu_ms[i]) / moves : 0.0;
+  }
   r.updates_per_s = updates / wall;
   r.ns_per_update = updates > 0 ? 1e9 * (s1.cpu_seconds - s0.cpu_seconds) / updates : 0.0;
   r.consumer_fraction = consumer_cpu / std::max(1e-9, consumer_wall);
@@ -224,7 +226,8 @@ int run_engine(const EngineBenchOptions& a) {
     // The moving display with reprojection at further sizes (its cost grows with the pixels).
     nlohmann::json by_size = nlohmann::json::array();
     for (const auto& [w, h] : moving_sizes) {
-      std::vector<double> size_cpu, size_rate, size_part, size_phase[ReprojectTimes::kPhases];
+      std::vector<double> size_cpu, size_rate, size_part, size_phase[ReprojectTimes::kPhases],
+          size_phase_cpu[ReprojectTimes::kPhases];
       for (int k = 0; k < std::max(1, a.repeats); ++k) {
         note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
               ", camera moving at 30 Hz, with reprojection").c_str());
@@ -232,19 +235,26 @@ int run_engine(const EngineBenchOptions& a) {
         size_cpu.push_back(m.cpu_fraction);
         size_rate.push_back(m.reprojections_per_s);
         size_part.push_back(m.reproject_fraction);
-        for (int i = 0; i < ReprojectTimes::kPhases; ++i) size_phase[i].push_back(m.phases.ms[i]);
+        for (int i = 0; i < ReprojectTimes::kPhases; ++i) {
+          size_phase[i].push_back(m.phases.ms[i]);
+          size_phase_cpu[i].push_back(m.phases.cpu_ms[i]);
+        }
       }
       const double rate = median(size_rate), part = median(size_part);
-      // Wall time of each phase (the display thread may wait for a core inside them).
-      nlohmann::json phases;
-      for (int i = 0; i < ReprojectTimes::kPhases; ++i) phases[ReprojectTimes::kNames[i]] = median(size_phase[i]);
+      // Each phase's CPU time, and its wall time (the display thread may wait for a core inside it).
+      nlohmann::json phases, phases_cpu;
+      for (int i = 0; i < ReprojectTimes::kPhases; ++i) {
+        phases[ReprojectTimes::kNames[i]] = median(size_phase[i]);
+        phases_cpu[ReprojectTimes::kNames[i]] = median(size_phase_cpu[i]);
+      }
       by_size.push_back({{"width", w},
                          {"height", h},
                          {"display_cpu_fraction", median(size_cpu)},
                          {"reproject_cpu_fraction", part},
                          {"reprojections_per_s", rate},
                          {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0},
-                         {"phases_wall_ms", phases}});
+                         {"phases_wall_ms", phases},
+                         {"phases_cpu_ms", phases_cpu}});
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -322,11 +332,13 @@ int run_engine(const EngineBenchOptions& a) {
                   100.0 * a.budget, a.budget, 100.0 * median(cpu_budget), median(reproj_rate_budget));
       for (const nlohmann::json& m : by_size) {
         std::printf("  moving with reprojection at %dx%d: %.2f%% of one core (%.2f%% reprojecting, %.1f "
-                    "reprojections/s, %.1f ms each)\n    its phases (wall ms a reprojection):",
+                    "reprojections/s, %.1f ms each)\n    its phases (CPU ms a reprojection, wall in brackets):",
                     m["width"].get<int>(), m["height"].get<int>(), 100.0 * m["display_cpu_fraction"].get<double>(),
                     100.0 * m["reproject_cpu_fraction"].get<double>(), m["reprojections_per_s"].get<double>(),
                     m["ms_per_reprojection"].get<double>());
-        for (const char* name : ReprojectTimes::kNames) std::printf(" %s %.2f", name, m["phases_wall_ms"][name].get<double>());
+        for (const char* name : ReprojectTimes::kNames)
+          std::printf(" %s %.2f (%.2f)", name, m["phases_cpu_ms"][name].get<double>(),
+                      m["phases_wall_ms"][name].get<double>());
         std::printf(" (%s paths)\n", Reprojector::vector_paths());
       }
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",

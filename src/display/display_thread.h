@@ -31,7 +31,7 @@ struct ReprojectTotals {
   uint64_t stale = 0;          // pixels showing what may move
   uint64_t redirected = 0;     // updates of an older camera shown where their point now projects
   double cpu_seconds = 0;      // display-thread CPU spent reprojecting (part of cpu_seconds)
-  ReprojectTimes phase_ms;     // wall milliseconds of each phase, summed over the reprojections
+  ReprojectTimes phase_ms;     // wall and CPU milliseconds of each phase, summed over the reprojections
 };
 
 // Always-on display instrumentation.

@@ -402,14 +402,10 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
                                 const SlotImage& to, bool world_moves, int max_fill, EpochCensus* census) {
   const int w = from.width, h = from.height;
   const size_t n = from.pixels();
-  // Where the time goes (bench reproject): a clock read between phases.
-  auto mark_time = std::chrono::steady_clock::now();
-  const auto lap = [&](ReprojectTimes::Phase phase) {
-    const auto now = std::chrono::steady_clock::now();
-    times_.ms[phase] = std::chrono::duration<double, std::milli>(now - mark_time).count();
-    mark_time = now;
-  };
+  // Where the time goes (bench reproject, bench engine): the clocks read between phases.
   times_ = {};
+  PhaseClock clock(times_);
+  const auto lap = [&](ReprojectTimes::Phase phase) { clock.lap(phase); };
   // The keys and marks start as holes and moves; the last run's gather left them so (keys_clear_),
   // which saves the two arrays' fills here. The spare key past the image takes the vector
   // splats' lanes that land nowhere.
@@ -475,7 +471,16 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
   lap(ReprojectTimes::disocclusions);
-  return gather(from, to, world_moves, census);
+  return gather(from, to, world_moves, census, clock);
+}
+
+void PhaseClock::lap(ReprojectTimes::Phase phase) {
+  const auto wall = std::chrono::steady_clock::now();
+  const uint64_t cpu = thread_cpu_ns();
+  times_.ms[phase] += std::chrono::duration<double, std::milli>(wall - wall_).count();
+  times_.cpu_ms[phase] += double(cpu - cpu_ns_) * 1e-6;
+  wall_ = wall;
+  cpu_ns_ = cpu;
 }
 
 }  // namespace frameless

@@ -6,6 +6,7 @@
 // whole. Works in the display's slot order.
 #pragma once
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "core/scene/camera.h"
 #include "display/display_pixel.h"
 #include "display/view_point.h"
+#include "frameless/cpu_clock.h"
 #include "frameless/pixel_points.h"
 
 namespace frameless {
@@ -67,17 +69,33 @@ struct SlotImage {
   uint32_t pixel(size_t slot) const { return pixel_of ? pixel_of[slot] : uint32_t(slot); }
 };
 
-// Wall milliseconds of a reprojection's phases, by Phase: the splat, the crack and disocclusion
+// Milliseconds of a reprojection's phases, by Phase: the splat, the crack and disocclusion
 // searches, the gather's pass by pixel (points and marks; with an identity layout, the whole
-// gather) and its pass by slot (the pixels; 0 with an identity layout).
+// gather) and its pass by slot (the pixels; 0 with an identity layout). Wall time, and the
+// calling thread's CPU time: beside busy render threads the display thread may wait for a core
+// inside a phase, and only the CPU time says what the phase itself costs.
 struct ReprojectTimes {
   enum Phase { splat, cracks, disocclusions, pixel_pass, slot_pass, kPhases };
   static constexpr const char* kNames[kPhases] = {"splat", "cracks", "disocclusions", "pixel_pass", "slot_pass"};
   double ms[kPhases] = {};
+  double cpu_ms[kPhases] = {};
   ReprojectTimes& operator+=(const ReprojectTimes& o) {
-    for (int i = 0; i < kPhases; ++i) ms[i] += o.ms[i];
+    for (int i = 0; i < kPhases; ++i) ms[i] += o.ms[i], cpu_ms[i] += o.cpu_ms[i];
     return *this;
   }
+};
+
+// The clocks between a reprojection's phases (wall and the thread's CPU): lap() books the time
+// since the last lap to a phase.
+class PhaseClock {
+ public:
+  explicit PhaseClock(ReprojectTimes& times) : times_(times) {}
+  void lap(ReprojectTimes::Phase phase);
+
+ private:
+  ReprojectTimes& times_;
+  std::chrono::steady_clock::time_point wall_ = std::chrono::steady_clock::now();
+  uint64_t cpu_ns_ = thread_cpu_ns();
 };
 
 class Reprojector {
@@ -141,7 +159,8 @@ class Reprojector {
   void cracks4(int w, int h);
   // The gather (reproject_gather.cpp): `to`'s points, marks and pixels from the keys; its pass
   // by pixel in AVX-512 (16 pixels a step) and AVX2 (8), adding the marks' counts.
-  ReprojectStats gather(const SlotImage& from, const SlotImage& to, bool world_moves, EpochCensus* census);
+  ReprojectStats gather(const SlotImage& from, const SlotImage& to, bool world_moves, EpochCensus* census,
+                        PhaseClock& clock);
   size_t places16(const SlotImage& from, const SlotImage& to, bool world_moves, size_t count[4]);
   size_t places8(const SlotImage& from, const SlotImage& to, bool world_moves, size_t count[4]);
   uint32_t farthest_in_window4(int x, int y, int w, int h, int r) const;

@@ -19,13 +19,6 @@ namespace {
 // long).
 constexpr size_t kSourceAhead = 128;
 
-double ms_since(std::chrono::steady_clock::time_point& mark) {
-  const auto now = std::chrono::steady_clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - mark).count();
-  mark = now;
-  return ms;
-}
-
 }  // namespace
 
 #if defined(__AVX512F__)
@@ -160,9 +153,8 @@ size_t Reprojector::places8(const SlotImage& from, const SlotImage& to, bool wor
 #endif
 
 ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, bool world_moves,
-                                   EpochCensus* census) {
+                                   EpochCensus* census, PhaseClock& clock) {
   const size_t n = from.pixels();
-  auto mark_time = std::chrono::steady_clock::now();
   // Four histograms, by pixel index: one counter bumped pixel after pixel would wait on its own
   // store each time.
   size_t by_mark[4][256] = {};
@@ -233,7 +225,7 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
       count_epoch(to.px[t].epoch, t);
     }
     keys_clear_ = true;
-    times_.ms[ReprojectTimes::pixel_pass] = ms_since(mark_time);
+    clock.lap(ReprojectTimes::pixel_pass);
   } else {
     // Two passes: points and marks by pixel, then the pixels by slot. One walk doing both (either
     // order, even along the display's Hilbert curve) loses the hardware prefetchers: it mixes
@@ -250,7 +242,7 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
       source_slot_[t] = place(t);
     }
     keys_clear_ = true;
-    times_.ms[ReprojectTimes::pixel_pass] = ms_since(mark_time);
+    clock.lap(ReprojectTimes::pixel_pass);
     // Slots stream; the source slot of the pixel kAhead slots on is fetched early, and its
     // content kAhead / 2 slots on.
     constexpr size_t kAhead = 256;
@@ -261,7 +253,7 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
       to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
       count_epoch(to.px[ts].epoch, ts);
     }
-    times_.ms[ReprojectTimes::slot_pass] = ms_since(mark_time);
+    clock.lap(ReprojectTimes::slot_pass);
   }
 #undef FRAMELESS_FETCH_SOURCE
   if (census)

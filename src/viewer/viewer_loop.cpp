@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "display/manifest.h"
+#include "frameless/cpu_clock.h"
 #include "display/camera_controls.h"
 #include "viewer/panels.h"
 #include "viewer/viewer_state.h"
@@ -25,12 +26,6 @@ void on_glfw_error(int, const char* text) { glfw_error_text = text ? text : "unk
 void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
 Viewer* viewer_of(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 // Our callbacks go in first; ImGui's backend chains to them and they keep off what it uses.
 void install_callbacks(GLFWwindow* window) {
