@@ -20,6 +20,11 @@ const bool bench_reproject_registered = register_command(
       app.add_option("--degrees", args->degrees, "Orbit per camera change")->capture_default_str();
       app.add_option("--changes", args->changes, "Timed camera changes per order (median)")->capture_default_str();
       app.add_option("--order", args->order, "curve (the display's), slots (the engine's), pixels or all")->capture_default_str();
+      app.add_option("--evict", args->evict_mb,
+                     "Megabytes of other memory written between changes, untimed, as render threads write "
+                     "their pixels' states and points between the display's changes (0: none; 88 is theirs "
+                     "at 1280x720)")
+          ->capture_default_str();
       app.add_flag("--json", args->json, "Print JSON instead of text");
       return [args]() { return bench::run_reproject(*args); };
     });

@@ -55,6 +55,9 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
   for (size_t s = 0; s < n; ++s) px[s].epoch = 1 + uint32_t((uint64_t(s) * 0x9E3779B97F4A7C15ull) >> 60) % 12;
   Reprojector r;
   EpochCensus census;
+  // What pushes the image's arrays out of the caches between changes beside the render threads.
+  std::vector<uint8_t> other(size_t(o.evict_mb) << 20);
+  uint8_t fill = 0;
   std::vector<double> ms, phase_ms[ReprojectTimes::kPhases];
   Camera camera = start;
   ReprojectStats last;
@@ -63,6 +66,7 @@ Timing time_changes(const Camera& start, const ReprojectOptions& o, int w, int h
     camera = orbit_camera(camera, float(o.degrees / CameraControlConfig{}.orbit_deg_per_pixel), 0.0f);
     const SlotImage from{w, h, pixel_of, slot_of, px.data(), points.data(), marks.data(), nullptr};
     const SlotImage to{w, h, pixel_of, slot_of, px_out.data(), points_out.data(), marks_out.data(), nullptr};
+    if (!other.empty()) std::memset(other.data(), ++fill, other.size());
     const auto t0 = std::chrono::steady_clock::now();
     census.clear();
     const ReprojectStats st = r.run(before, make_camera_basis(camera, w, h), from, to, true, 3, &census);
@@ -108,6 +112,7 @@ int run_reproject(const ReprojectOptions& o) {
   if (!valid_threads(o.threads, error)) return report_error(error);
   if (!(o.changes >= 1 && o.changes <= 10000)) return report_error("--changes: must be 1..10000");
   if (!(o.degrees > 0 && o.degrees <= 45)) return report_error("--degrees: must be in (0, 45]");
+  if (!(o.evict_mb >= 0 && o.evict_mb <= 16384)) return report_error("--evict: must be 0..16384 megabytes");
   if (o.order != "all" && o.order != "curve" && o.order != "slots" && o.order != "pixels")
     return report_error("--order: expected curve, slots, pixels or all, got '" + o.order + "'");
   std::unique_ptr<Scene> scene = load_scene_or_report(o.scene, nullptr);
@@ -130,7 +135,7 @@ int run_reproject(const ReprojectOptions& o) {
   const double copy_gb_per_s = 2.0 * px * double(sizeof(DisplayPixel)) / (copy_ms * 1e6);  // read + written
   if (o.json) {
     nlohmann::json j = {{"scene", o.scene}, {"size", o.size}, {"threads", o.threads},
-                        {"degrees", o.degrees}, {"changes", o.changes},
+                        {"degrees", o.degrees}, {"changes", o.changes}, {"evict_mb", o.evict_mb},
                         {"vector_paths", Reprojector::vector_paths()}, {"image_copy_ms", copy_ms},
                         {"image_copy_gb_per_s", copy_gb_per_s}};
     for (const auto& [name, t] :
@@ -144,8 +149,10 @@ int run_reproject(const ReprojectOptions& o) {
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
-  std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d (%s paths)\n",
-              o.scene.c_str(), w, h, o.degrees, o.changes, Reprojector::vector_paths());
+  std::printf("reprojection of %s at %dx%d, %.2f degrees of orbit a change, one core, median of %d (%s paths)%s\n",
+              o.scene.c_str(), w, h, o.degrees, o.changes, Reprojector::vector_paths(),
+              o.evict_mb > 0 ? (", " + std::to_string(o.evict_mb) + " MB of other memory written between changes").c_str()
+                             : "");
   std::printf("  a copy of the image's pixels (%.1f MB read, as many written) takes %.2f ms here: %.1f GB/s\n",
               px * double(sizeof(DisplayPixel)) / 1e6, copy_ms, copy_gb_per_s);
   for (const auto& [name, t] : {std::pair{"curve (the display's)", curve}, std::pair{"engine's slot order", slots},

@@ -15,6 +15,7 @@ struct ReprojectOptions {
   double degrees = 0.5;      // orbit per camera change (15 degrees a second at 30 Hz)
   int changes = 30;          // timed reprojections per order; the median is reported
   std::string order = "all";  // "curve", "slots", "pixels" or all
+  int evict_mb = 0;          // megabytes of other memory written between changes (0: none)
   bool json = false;
 };
 

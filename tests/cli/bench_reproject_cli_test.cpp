@@ -48,11 +48,19 @@ TEST(BenchReprojectCli, JsonReportsEveryOrderAndAPlausibleMove) {
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_FALSE(nlohmann::json::parse(one.output).contains("slot_order"));
   EXPECT_FALSE(nlohmann::json::parse(one.output).contains("curve_order"));
+  EXPECT_EQ(nlohmann::json::parse(one.output)["evict_mb"], 0);
+  // Other memory written between changes moves the same pixels.
+  const CommandResult evicted =
+      run_frameless("bench reproject default --size 160x90 --changes 2 --order pixels --evict 2 --json");
+  ASSERT_EQ(evicted.exit_code, 0) << evicted.output;
+  const nlohmann::json e = nlohmann::json::parse(evicted.output);
+  EXPECT_EQ(e["evict_mb"], 2);
+  EXPECT_EQ(e["pixel_order"]["moved_fraction"], nlohmann::json::parse(one.output)["pixel_order"]["moved_fraction"]);
 }
 
 TEST(BenchReprojectCli, BadArgumentsAreOneLine) {
   for (const char* args : {"bench reproject --order diagonal", "bench reproject --changes 0",
-                           "bench reproject --degrees 90", "bench reproject --size 0x5",
+                           "bench reproject --degrees 90", "bench reproject --size 0x5", "bench reproject --evict -1",
                            "bench reproject no_such_scene.json"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
