@@ -4,6 +4,12 @@
 // random walk; worse error in bench motion although fewer holes). The engine's sequence numbers
 // stay with the slots (the display keeps them apart from the pixels).
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 #include <cstring>
 
 #include "display/reproject.h"
@@ -49,6 +55,9 @@ size_t Reprojector::places16(const SlotImage& from, const SlotImage& to, bool wo
   uint32_t* source_slot = source_slot_.data();
   uint8_t* out_marks = to.marks;
   int32_t* out_points = reinterpret_cast<int32_t*>(to.points);
+  // The points with streaming stores, as the pass by slot writes the pixels (gather): the next
+  // change reads them, by when the render threads have pushed their lines out of the caches.
+  const bool stream_points = (reinterpret_cast<uintptr_t>(to.points) & 15) == 0;
   for (size_t t = 0; t < steps; t += 16) {
     if (t + kSourceAhead + 16 <= n) {  // the sources of a step lie on a line or two
       for (const size_t at : {t + kSourceAhead, t + kSourceAhead + 15}) {
@@ -79,8 +88,21 @@ size_t Reprojector::places16(const SlotImage& from, const SlotImage& to, bool wo
     if (world_moves)
       mark = _mm512_mask_or_epi32(mark, _mm512_cmpeq_epi32_mask(_mm512_srli_epi32(bits, kViewKindShift), moving),
                                   mark, stale);
-    _mm512_storeu_si512(out_points + 2 * t, _mm512_permutex2var_epi32(depth, first, bits));
-    _mm512_storeu_si512(out_points + 2 * t + 16, _mm512_permutex2var_epi32(depth, second, bits));
+    const __m512i p0 = _mm512_permutex2var_epi32(depth, first, bits), p1 = _mm512_permutex2var_epi32(depth, second, bits);
+    if (stream_points) {
+      __m128i* o = reinterpret_cast<__m128i*>(out_points + 2 * t);
+      _mm_stream_si128(o, _mm512_castsi512_si128(p0));
+      _mm_stream_si128(o + 1, _mm512_extracti32x4_epi32(p0, 1));
+      _mm_stream_si128(o + 2, _mm512_extracti32x4_epi32(p0, 2));
+      _mm_stream_si128(o + 3, _mm512_extracti32x4_epi32(p0, 3));
+      _mm_stream_si128(o + 4, _mm512_castsi512_si128(p1));
+      _mm_stream_si128(o + 5, _mm512_extracti32x4_epi32(p1, 1));
+      _mm_stream_si128(o + 6, _mm512_extracti32x4_epi32(p1, 2));
+      _mm_stream_si128(o + 7, _mm512_extracti32x4_epi32(p1, 3));
+    } else {
+      _mm512_storeu_si512(out_points + 2 * t, p0);
+      _mm512_storeu_si512(out_points + 2 * t + 16, p1);
+    }
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out_marks + t), _mm512_cvtepi32_epi8(mark));
     for (int b = 0; b < 4; ++b) count[b] += size_t(__builtin_popcount(_mm512_test_epi32_mask(mark, bit[b])));
     _mm512_storeu_si512(source_slot + t, slot_of ? _mm512_i32gather_epi32(source, slot_of, 4) : source);
@@ -108,6 +130,7 @@ size_t Reprojector::places8(const SlotImage& from, const SlotImage& to, bool wor
   uint32_t* source_slot = source_slot_.data();
   uint8_t* out_marks = to.marks;
   int32_t* out_points = reinterpret_cast<int32_t*>(to.points);
+  const bool stream_points = (reinterpret_cast<uintptr_t>(to.points) & 15) == 0;
   for (size_t t = 0; t < steps; t += 8) {
     if (t + kSourceAhead + 8 <= n) {
       const uint32_t ahead = uint32_t(keys[t + kSourceAhead]);
@@ -136,8 +159,17 @@ size_t Reprojector::places8(const SlotImage& from, const SlotImage& to, bool wor
     if (world_moves)
       mark = _mm256_or_si256(mark, _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_srli_epi32(bits, kViewKindShift), moving), stale));
     const __m256i lo = _mm256_unpacklo_epi32(depth, bits), hi = _mm256_unpackhi_epi32(depth, bits);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_points + 2 * t), _mm256_permute2x128_si256(lo, hi, 0x20));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_points + 2 * t + 8), _mm256_permute2x128_si256(lo, hi, 0x31));
+    const __m256i p0 = _mm256_permute2x128_si256(lo, hi, 0x20), p1 = _mm256_permute2x128_si256(lo, hi, 0x31);
+    if (stream_points) {  // as places16
+      __m128i* o = reinterpret_cast<__m128i*>(out_points + 2 * t);
+      _mm_stream_si128(o, _mm256_castsi256_si128(p0));
+      _mm_stream_si128(o + 1, _mm256_extracti128_si256(p0, 1));
+      _mm_stream_si128(o + 2, _mm256_castsi256_si128(p1));
+      _mm_stream_si128(o + 3, _mm256_extracti128_si256(p1, 1));
+    } else {
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_points + 2 * t), p0);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out_points + 2 * t + 8), p1);
+    }
     const __m256i bytes = _mm256_packus_epi16(_mm256_packus_epi32(mark, mark), zero);  // marks 0-3 | 4-7 per half
     const uint64_t packed = uint32_t(_mm_cvtsi128_si32(_mm256_castsi256_si128(bytes))) |
                             uint64_t(uint32_t(_mm_cvtsi128_si32(_mm256_extracti128_si256(bytes, 1)))) << 32;
@@ -247,12 +279,28 @@ ReprojectStats Reprojector::gather(const SlotImage& from, const SlotImage& to, b
     // content kAhead / 2 slots on.
     constexpr size_t kAhead = 256;
     const uint32_t* pixel_of = to.pixel_of;
+    // Written with streaming stores, which skip reading the destination's lines first: beside
+    // the render threads those lines have left the caches by the next change, and the reads
+    // cost an eighth of the pass (benchmarks.md, section 36). They need 16-byte alignment.
+    const bool stream = (reinterpret_cast<uintptr_t>(to.px) & 15) == 0;
+    static_assert(offsetof(DisplayPixel, epoch) == 12, "the epoch is a pixel's last 4 bytes");
     for (size_t ts = 0; ts < n; ++ts) {
       if (ts + kAhead < n) __builtin_prefetch(&source_slot_[pixel_of[ts + kAhead]]);
       if (ts + kAhead / 2 < n) __builtin_prefetch(&from.px[source_slot_[pixel_of[ts + kAhead / 2]]]);
+#if defined(__SSE2__)
+      if (stream) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&from.px[source_slot_[pixel_of[ts]]]));
+        _mm_stream_si128(reinterpret_cast<__m128i*>(&to.px[ts]), v);
+        count_epoch(uint32_t(_mm_cvtsi128_si32(_mm_srli_si128(v, 12))), ts);  // the epoch, the last 4 bytes
+        continue;
+      }
+#endif
       to.px[ts] = from.px[source_slot_[pixel_of[ts]]];
       count_epoch(to.px[ts].epoch, ts);
     }
+#if defined(__SSE2__)
+    _mm_sfence();  // the streaming stores (these and the points') ordered before the image is handed on
+#endif
     clock.lap(ReprojectTimes::slot_pass);
   }
 #undef FRAMELESS_FETCH_SOURCE
