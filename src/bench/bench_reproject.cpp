@@ -112,7 +112,8 @@ int run_reproject(const ReprojectOptions& o) {
   if (!valid_threads(o.threads, error)) return report_error(error);
   if (!(o.changes >= 1 && o.changes <= 10000)) return report_error("--changes: must be 1..10000");
   if (!(o.degrees > 0 && o.degrees <= 45)) return report_error("--degrees: must be in (0, 45]");
-  if (!(o.evict_mb >= 0 && o.evict_mb <= 16384)) return report_error("--evict: must be 0..16384 megabytes");
+  // Caches are at most some hundreds of megabytes; gigabytes would only strain the memory.
+  if (!(o.evict_mb >= 0 && o.evict_mb <= 2048)) return report_error("--evict: must be 0..2048 megabytes");
   if (o.order != "all" && o.order != "curve" && o.order != "slots" && o.order != "pixels")
     return report_error("--order: expected curve, slots, pixels or all, got '" + o.order + "'");
   std::unique_ptr<Scene> scene = load_scene_or_report(o.scene, nullptr);

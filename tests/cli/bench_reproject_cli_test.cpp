@@ -61,6 +61,7 @@ TEST(BenchReprojectCli, JsonReportsEveryOrderAndAPlausibleMove) {
 TEST(BenchReprojectCli, BadArgumentsAreOneLine) {
   for (const char* args : {"bench reproject --order diagonal", "bench reproject --changes 0",
                            "bench reproject --degrees 90", "bench reproject --size 0x5", "bench reproject --evict -1",
+                           "bench reproject --evict 4096",
                            "bench reproject no_such_scene.json"}) {
     const CommandResult r = run_frameless(args);
     EXPECT_NE(r.exit_code, 0) << args;
