@@ -105,9 +105,11 @@ void Reprojector::land_engine16(const Projector& to, const EngineBatch& b, int w
   const __mmask16 none = _mm512_cmpeq_epi32_mask(obj, _mm512_set1_epi32(int(kPointNone)));
   const __mmask16 moving = _mm512_cmpge_epu32_mask(obj, _mm512_set1_epi32(int(kPointDynamic)));
   // d = p - eye, the sky's p itself (a direction)
-  const __m512 dx = _mm512_mask_sub_ps(_mm512_load_ps(b.x), __mmask16(~sky), _mm512_load_ps(b.x), _mm512_set1_ps(to.eye.x));
-  const __m512 dy = _mm512_mask_sub_ps(_mm512_load_ps(b.y), __mmask16(~sky), _mm512_load_ps(b.y), _mm512_set1_ps(to.eye.y));
-  const __m512 dz = _mm512_mask_sub_ps(_mm512_load_ps(b.z), __mmask16(~sky), _mm512_load_ps(b.z), _mm512_set1_ps(to.eye.z));
+  const auto diff = [&](const float* c, float e) {
+    const __m512 v = _mm512_load_ps(c);
+    return _mm512_mask_sub_ps(v, __mmask16(~sky), v, _mm512_set1_ps(e));
+  };
+  const __m512 dx = diff(b.x, to.eye.x), dy = diff(b.y, to.eye.y), dz = diff(b.z, to.eye.z);
   const auto dot = [&](const Vec3& a) {  // dot_exact(d, a)
     return _mm512_fmadd_ps(dx, _mm512_set1_ps(a.x),
                            _mm512_fmadd_ps(dy, _mm512_set1_ps(a.y), _mm512_mul_ps(dz, _mm512_set1_ps(a.z))));
@@ -131,13 +133,9 @@ void Reprojector::land_engine16(const Projector& to, const EngineBatch& b, int w
   _mm512_store_si512(target, _mm512_add_epi32(_mm512_mullo_epi32(iy, _mm512_set1_epi32(w)), ix));
   _mm512_store_si512(word, _mm512_or_si512(_mm512_or_si512(qx, _mm512_slli_epi32(qy, kViewFractionBits)),
                                            _mm512_slli_epi32(kind, kViewKindShift)));
-  _mm512_store_ps(depth, _mm512_mask_mov_ps(z, sky, _mm512_set1_ps(std::numeric_limits<float>::infinity())));
-  for (unsigned m = in; m; m &= m - 1u) {
-    const int i = __builtin_ctz(m);
-    uint64_t& k = key_[target[i]];
-    k = std::min(k, uint64_t(depth[i]) << 32 | b.source[i]);
-    moved_[b.source[i]] = word[i];
-  }
+  _mm512_store_ps(reinterpret_cast<float*>(depth),
+                  _mm512_mask_mov_ps(z, sky, _mm512_set1_ps(std::numeric_limits<float>::infinity())));
+  land_lanes(in, b, target, depth, word);
 }
 
 // The splat 16 pixels a step: their view points split into depths and bits, moved as ViewMove
@@ -230,10 +228,7 @@ size_t Reprojector::splat16(const ViewMove& mv, const SlotImage& from, int w) {
     // time they cost three times the reads (66 against 27 cycles a point, 47 k points a change).
     for (unsigned m = engine; m; m &= m - 1u) {
       const size_t q = p + __builtin_ctz(m);
-      const ScenePoint point = engine_point(from, q);
-      batch.x[batch.count] = point.p.x, batch.y[batch.count] = point.p.y, batch.z[batch.count] = point.p.z;
-      batch.object[batch.count] = point.object, batch.source[batch.count] = uint32_t(q);
-      if (++batch.count == 16) land_engine16(mv.to, batch, w), batch.count = 0;
+      if (batch.add(engine_point(from, q), uint32_t(q)) == 16) land_engine16(mv.to, batch, w), batch.count = 0;
     }
   }
   if (batch.count) land_engine16(mv.to, batch, w);
@@ -405,7 +400,6 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   // Where the time goes (bench reproject, bench engine): the clocks read between phases.
   times_ = {};
   PhaseClock clock(times_);
-  const auto lap = [&](ReprojectTimes::Phase phase) { clock.lap(phase); };
   // The keys and marks start as holes and moves; the last run's gather left them so (keys_clear_),
   // which saves the two arrays' fills here. The spare key past the image takes the vector
   // splats' lanes that land nowhere.
@@ -429,7 +423,7 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
   if (vectorized_) p0 = splat8(move, from, w);
 #endif
   for (size_t p = p0; p < n; ++p) splat_one(move, from, p, w);
-  lap(ReprojectTimes::splat);
+  clock.lap(ReprojectTimes::splat);
   // Cracks first: a hole with landed neighbours of about one depth on opposite sides lies inside
   // a magnified surface, and takes the farther of such a pair.
   fills_.clear();
@@ -449,7 +443,7 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
       if (key_[t] == kHole) crack(uint32_t(t), w, h);
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
-  lap(ReprojectTimes::cracks);
+  clock.lap(ReprojectTimes::cracks);
   // Disocclusions: what an object uncovers lies behind it, so each remaining hole takes the
   // farthest landed pixel within `max_fill` pixels; none there: it keeps its old content.
   fills_.clear();
@@ -470,7 +464,7 @@ ReprojectStats Reprojector::run(const CameraBasis& before, const CameraBasis& af
     if (best != kNone) fills_.push_back({t, key_[best]});
   }
   for (const Fill& f : fills_) key_[f.pixel] = f.key;
-  lap(ReprojectTimes::disocclusions);
+  clock.lap(ReprojectTimes::disocclusions);
   return gather(from, to, world_moves, census, clock);
 }
 

@@ -144,9 +144,26 @@ class Reprojector {
     float x[16], y[16], z[16];
     uint32_t object[16], source[16];
     int count = 0;
+    // Source pixel `source`'s point queued; returns the points now waiting.
+    int add(const ScenePoint& point, uint32_t source_pixel) {
+      x[count] = point.p.x, y[count] = point.p.y, z[count] = point.p.z;
+      object[count] = point.object, source[count] = source_pixel;
+      return ++count;
+    }
   };
   void land_engine16(const Projector& to, const EngineBatch& batch, int w);
   void land_engine8(const Projector& to, const EngineBatch& batch, int w);
+  // The batch's lanes `lanes` landed (both vector forms): at pixel target[i], depth bits depth[i],
+  // view bits word[i], as land() lands one point.
+  void land_lanes(uint32_t lanes, const EngineBatch& batch, const uint32_t* target, const uint32_t* depth,
+                  const uint32_t* word) {
+    for (uint32_t m = lanes; m; m &= m - 1u) {
+      const int i = __builtin_ctz(m);
+      uint64_t& k = key_[target[i]];
+      k = std::min(k, uint64_t(depth[i]) << 32 | batch.source[i]);
+      moved_[batch.source[i]] = word[i];
+    }
+  }
   void crack(uint32_t t, int w, int h);
   void cracks16(int w, int h);
   // The AVX2 forms of splat16, cracks16 and the vector window (reproject_avx2.cpp), for cores

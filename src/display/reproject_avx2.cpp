@@ -26,17 +26,16 @@ inline uint32_t zero_bytes(const uint8_t* p) {
 // land_engine16 eight points at a time: the batch's (at most eight), projected as Projector does
 // and landed as land() lands them.
 void Reprojector::land_engine8(const Projector& to, const EngineBatch& b, int w) {
-  const int first = 0, count = b.count;
-  if (count <= 0) return;
+  if (b.count <= 0) return;
   const __m256 zero = _mm256_setzero_ps();
-  const __m256i obj = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.object + first));
+  const __m256i obj = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.object));
   const __m256 sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(obj, _mm256_set1_epi32(int(kPointSky))));
   const __m256i none = _mm256_cmpeq_epi32(obj, _mm256_set1_epi32(int(kPointNone)));
   // object >= kPointDynamic (unsigned): the largest of the two is the object
   const __m256i moving = _mm256_cmpeq_epi32(_mm256_max_epu32(obj, _mm256_set1_epi32(int(kPointDynamic))), obj);
   // d = p - eye, the sky's p itself (a direction)
   const auto diff = [&](const float* c, float e) {
-    const __m256 v = _mm256_load_ps(c + first);
+    const __m256 v = _mm256_load_ps(c);
     return _mm256_blendv_ps(_mm256_sub_ps(v, _mm256_set1_ps(e)), v, sky);
   };
   const __m256 dx = diff(b.x, to.eye.x), dy = diff(b.y, to.eye.y), dz = diff(b.z, to.eye.z);
@@ -54,7 +53,7 @@ void Reprojector::land_engine8(const Projector& to, const EngineBatch& b, int w)
   in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(sy, zero, _CMP_GE_OQ),
                                        _mm256_cmp_ps(sy, _mm256_set1_ps(to.height), _CMP_LT_OQ)));
   const uint32_t landed = uint32_t(_mm256_movemask_ps(_mm256_andnot_ps(_mm256_castsi256_ps(none), in))) &
-                          ((1u << count) - 1u);
+                          ((1u << b.count) - 1u);
   if (!landed) return;
   // view_kind_of: static 2, sky 1, moving 3 (none never lands)
   __m256i kind = _mm256_blendv_epi8(_mm256_set1_epi32(int(kViewStatic)), _mm256_set1_epi32(int(kViewSky)),
@@ -71,13 +70,7 @@ void Reprojector::land_engine8(const Projector& to, const EngineBatch& b, int w)
                                      _mm256_slli_epi32(kind, kViewKindShift)));
   _mm256_store_ps(reinterpret_cast<float*>(depth),
                   _mm256_blendv_ps(z, _mm256_set1_ps(std::numeric_limits<float>::infinity()), sky));
-  for (uint32_t m = landed; m; m &= m - 1u) {
-    const int i = __builtin_ctz(m);
-    const uint32_t source = b.source[first + i];
-    uint64_t& k = key_[target[i]];
-    k = std::min(k, uint64_t(depth[i]) << 32 | source);
-    moved_[source] = word[i];
-  }
+  land_lanes(landed, b, target, depth, word);
 }
 
 // splat16 eight pixels a step: two vectors of four view points split into depths and bits,
@@ -175,10 +168,7 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
     // Their world points read now, projected eight at a time (as splat16 does).
     for (uint32_t m = engine; m; m &= m - 1u) {
       const size_t q = p + __builtin_ctz(m);
-      const ScenePoint point = engine_point(from, q);
-      batch.x[batch.count] = point.p.x, batch.y[batch.count] = point.p.y, batch.z[batch.count] = point.p.z;
-      batch.object[batch.count] = point.object, batch.source[batch.count] = uint32_t(q);
-      if (++batch.count == 8) land_engine8(mv.to, batch, w), batch.count = 0;
+      if (batch.add(engine_point(from, q), uint32_t(q)) == 8) land_engine8(mv.to, batch, w), batch.count = 0;
     }
   }
   land_engine8(mv.to, batch, w);

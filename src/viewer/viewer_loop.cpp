@@ -1,6 +1,5 @@
 // The viewer's window and main loop: input, the script, held keys, resizes, presentation.
 #include <sys/resource.h>
-#include <time.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

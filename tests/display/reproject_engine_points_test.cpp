@@ -9,19 +9,12 @@
 
 #include "display/reproject.h"
 #include "frameless/pixel_points.h"
+#include "reproject_cameras.h"
 
 namespace frameless {
 namespace {
 
 constexpr int kImageW = 80, kImageH = 50;
-
-CameraBasis view_basis(Vec3 eye, Vec3 look) {
-  Camera c;
-  c.eye = eye;
-  c.look = look;
-  c.fov_deg = 60.0f;
-  return make_camera_basis(c, kImageW, kImageH);
-}
 
 struct EngineTestImage {
   std::vector<DisplayPixel> px;
@@ -39,8 +32,8 @@ void set_engine_point(PixelPoint& slot, const Vec3& p, uint32_t object) {
 }
 
 TEST(ReprojectEnginePoints, VectorSplatLandsThemAsTheScalarCode) {
-  const CameraBasis a = view_basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
-  const CameraBasis b = view_basis({0.9f, 0.4f, 4.0f}, {0.3f, 0.1f, 0.0f});
+  const CameraBasis a = look_at_basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, kImageW, kImageH);
+  const CameraBasis b = look_at_basis({0.9f, 0.4f, 4.0f}, {0.3f, 0.1f, 0.0f}, kImageW, kImageH);
   const size_t n = size_t(kImageW) * kImageH;
   EngineTestImage from(n);
   std::vector<PixelPoint> engine(n);

@@ -18,6 +18,7 @@
 #include "display/display_thread.h"
 #include "frameless/engine.h"
 #include "frameless/partition.h"
+#include "reproject_cameras.h"
 
 namespace frameless {
 namespace {
@@ -104,13 +105,7 @@ float sy_of(const CameraBasis& b, const ScenePoint& q) {
   return y;
 }
 
-CameraBasis basis(Vec3 eye, Vec3 look) {
-  Camera c;
-  c.eye = eye;
-  c.look = look;
-  c.fov_deg = 60.0f;
-  return make_camera_basis(c, kW, kH);
-}
+CameraBasis basis(Vec3 eye, Vec3 look) { return look_at_basis(eye, look, kW, kH); }
 
 TEST(Reproject, PlanePixelsLandWhereTheProjectionSays) {
   const CameraBasis a = basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
@@ -318,13 +313,8 @@ TEST(Reproject, VectorPathsMatchTheScalarCode) {
 TEST(Reproject, SmallImagesMatchTheScalarCode) {
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {2, 7}, {3, 3}, {10, 4}, {17, 5}, {33, 9}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
-    Camera c;
-    c.eye = {0.0f, 0.0f, 5.0f};
-    c.look = {0.0f, 0.0f, 0.0f};
-    c.fov_deg = 60.0f;
-    const CameraBasis a = make_camera_basis(c, w, h);
-    c.eye = {0.4f, 0.1f, 4.2f};
-    const CameraBasis b = make_camera_basis(c, w, h);
+    const CameraBasis a = look_at_basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, w, h);
+    const CameraBasis b = look_at_basis({0.4f, 0.1f, 4.2f}, {0.0f, 0.0f, 0.0f}, w, h);
     const size_t n = size_t(w) * size_t(h);
     std::vector<DisplayPixel> px(n);
     std::vector<ScenePoint> world(n);
