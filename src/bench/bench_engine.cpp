@@ -83,10 +83,12 @@ struct DisplayCost {
 // (so it does not take CPU from the render threads during the first measurement), the CPU of a
 // consumer that takes every new image as the viewer's presentation thread does.
 // `moving`: a camera orbiting 15 degrees a second, published at 30 Hz, during the measurement;
-// `reproject`: the display moves its image at every camera change (the render cache).
+// `reproject`: the display moves its image at every camera change (the render cache);
+// `viewer`: the consumer runs during the measurement instead (the viewer's case: the display
+// hands over every image, so each tick brings another buffer up to date).
 DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera, double seconds,
                         bool moving = false, bool reproject = false, float budget = 0.0f,
-                        int width = 1280, int height = 720) {
+                        int width = 1280, int height = 720, bool viewer = false) {
   c.width = width;
   c.height = height;
   Engine e(scene, c, camera);
@@ -108,20 +110,37 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
         e.publish_camera(evaluate_camera_path(path, k / 30.0, camera));
       }
     });
+  // Takes every image until `done` (polling at twice the display rate); its CPU seconds.
+  const auto consume = [&d](const std::atomic<bool>& done) {
+    double cpu = 0;
+    while (!done.load()) {
+      const double c0 = thread_cpu_seconds();
+      d.acquire_latest();
+      cpu += thread_cpu_seconds() - c0;
+      sleep_s(1.0 / 120.0);
+    }
+    return cpu;
+  };
+  std::atomic<bool> done{false};
+  double consumer_cpu = 0;
+  std::thread presenter;
+  if (viewer) presenter = std::thread([&] { consumer_cpu = consume(done); });
   sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
   const DisplayStats s0 = d.stats();
+  auto t0 = std::chrono::steady_clock::now();
   sleep_s(seconds);
   const DisplayStats s1 = d.stats();
+  done = true;
+  if (presenter.joinable()) presenter.join();
   stop = true;
   if (mover.joinable()) mover.join();
-  double consumer_cpu = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto end = t0 + std::chrono::duration<double>(std::max(0.5, seconds / 2));
-  while (std::chrono::steady_clock::now() < end) {
-    const double c0 = thread_cpu_seconds();
-    d.acquire_latest();
-    consumer_cpu += thread_cpu_seconds() - c0;
-    sleep_s(1.0 / 120.0);  // polls at twice the display rate, so it takes every image
+  if (!viewer) {
+    done = false;
+    t0 = std::chrono::steady_clock::now();
+    presenter = std::thread([&] { consumer_cpu = consume(done); });
+    sleep_s(std::max(0.5, seconds / 2));
+    done = true;
+    presenter.join();
   }
   const double consumer_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -228,10 +247,17 @@ int run_engine(const EngineBenchOptions& a) {
     for (const auto& [w, h] : moving_sizes) {
       std::vector<double> size_cpu, size_rate, size_part, size_phase[ReprojectTimes::kPhases],
           size_phase_cpu[ReprojectTimes::kPhases];
+      std::vector<double> viewer_cpu, viewer_consumer, viewer_rate;
       for (int k = 0; k < std::max(1, a.repeats); ++k) {
         note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
               ", camera moving at 30 Hz, with reprojection").c_str());
         const DisplayCost m = display_cpu(*scene, c, camera, a.seconds, true, true, 0.0f, w, h);
+        note(("display CPU at 60 Hz, " + std::to_string(w) + "x" + std::to_string(h) +
+              ", camera moving at 30 Hz, with reprojection and a consumer taking every image").c_str());
+        const DisplayCost v = display_cpu(*scene, c, camera, a.seconds, true, true, 0.0f, w, h, true);
+        viewer_cpu.push_back(v.cpu_fraction);
+        viewer_consumer.push_back(v.consumer_fraction);
+        viewer_rate.push_back(v.reprojections_per_s);
         size_cpu.push_back(m.cpu_fraction);
         size_rate.push_back(m.reprojections_per_s);
         size_part.push_back(m.reproject_fraction);
@@ -254,7 +280,10 @@ int run_engine(const EngineBenchOptions& a) {
                          {"reprojections_per_s", rate},
                          {"ms_per_reprojection", rate > 0 ? 1e3 * part / rate : 0.0},
                          {"phases_wall_ms", phases},
-                         {"phases_cpu_ms", phases_cpu}});
+                         {"phases_cpu_ms", phases_cpu},
+                         {"viewer", {{"display_cpu_fraction", median(viewer_cpu)},
+                                     {"consumer_cpu_fraction", median(viewer_consumer)},
+                                     {"reprojections_per_s", median(viewer_rate)}}}});
     }
     const double fl = median(fl_s), conv = median(conv_s), cpu = median(cpus);
     const double overhead = 1.0 - median(ratio), overhead_cpu = 1.0 - median(ratio_cpu);
@@ -340,6 +369,11 @@ int run_engine(const EngineBenchOptions& a) {
           std::printf(" %s %.2f (%.2f)", name, m["phases_cpu_ms"][name].get<double>(),
                       m["phases_wall_ms"][name].get<double>());
         std::printf(" (%s paths)\n", Reprojector::vector_paths());
+        const nlohmann::json& v = m["viewer"];
+        std::printf("    with a consumer taking every image (the viewer): display %.2f%% of one core, consumer "
+                    "%.2f%%, %.1f reprojections/s\n",
+                    100.0 * v["display_cpu_fraction"].get<double>(), 100.0 * v["consumer_cpu_fraction"].get<double>(),
+                    v["reprojections_per_s"].get<double>());
       }
       std::printf("camera change -> 50%% %.1f ms, 95%% %.1f ms, 100%% %.1f ms (ideal %.1f ms)\n",
                   median(p50), median(p95), median(p100), median(ideal));

@@ -58,6 +58,7 @@ FrameInfo DisplayThread::Impl::run_tick(double interval) {
   const CollectResult r = engine.collect(cursor, sink);
   const bool full = sink.full;
   history.full[tick_index % kHistory] = full;
+  history.moved[tick_index % kHistory] = sink.moved && !full;
   history.newest = tick_index + 1;
   rejected += sink.rejected;
 
@@ -152,23 +153,34 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
   }
   const uint64_t have = synced[back];
   if (img.width != r.width || img.height != r.height || img.layout != src.layout ||
-      !history.covers(have, tick_index)) {
+      !history.covers_records(have, tick_index)) {
     img.width = src.width;
     img.height = src.height;
     img.layout = src.layout;
     img.px.resize(src.px.size());
     img.rec.resize(src.rec.size());
     deferred = &src;  // copied by finish_catch_up unless a reprojection reads src instead
+    deferred_records = true;
     return false;
   }
+  // Moved since (a reprojection): what each place shows is copied whole, unless this tick's
+  // reprojection reads src instead; the records, which stay in place, by runs all the same.
+  const bool moved = !history.covers(have, tick_index);
+  if (moved) deferred = &src, deferred_records = false;
   for (uint64_t t = have; t < tick_index; ++t)
-    for (const SlotRun& run : history.runs[t % kHistory]) img.copy_places(src, run.first, run.count);
+    for (const SlotRun& run : history.runs[t % kHistory]) {
+      if (!moved) img.copy_pixels(src, run.first, run.count);
+      img.copy_records(src, run.first, run.count);
+    }
   return false;
 }
 
-// The full copy catch_up deferred, when no reprojection made it unneeded.
+// The whole copy catch_up deferred, when no reprojection made it unneeded.
 void DisplayThread::Impl::finish_catch_up(PixelImage& img) {
-  if (deferred) img.copy_places(*deferred, 0, img.pixels());
+  if (deferred) {
+    img.copy_pixels(*deferred, 0, img.pixels());
+    if (deferred_records) img.copy_records(*deferred, 0, img.pixels()), ++record_copies;
+  }
   deferred = nullptr;
 }
 
@@ -214,8 +226,9 @@ bool DisplayThread::Impl::reproject(PixelImage& img, bool enabled, float budget,
   census.clear();  // the gather counts the epochs it moves
   const ReprojectStats st = reprojector.run(before, reproject_basis, from.slots(points, marks, engine_points),
                                             out.slots(points_out, marks_out), world_moves, 3, &census);
-  // The records stay in place: a stale back buffer gets the newest image's.
-  if (deferred) std::memcpy(img.rec.data(), deferred->rec.data(), img.rec.size() * sizeof(PlaceRecord));
+  // The records stay in place: a stale back buffer gets the newest image's (unless catch_up
+  // brought them up to date from the runs).
+  if (deferred && deferred_records) img.copy_records(*deferred, 0, img.pixels()), ++record_copies;
   deferred = nullptr;
   image_moved = true;
   std::swap(img.px, out.px);
@@ -287,6 +300,7 @@ void DisplayThread::Impl::thread_main() {
       }
       stats.rejected = rejected;
       stats.reclaimed = reclaimed;
+      stats.record_copies = record_copies;
       stats.reproject = reproject_totals;
       first = false;
     }
@@ -385,6 +399,7 @@ DisplayStats DisplayThread::stats() const {
     s.ticks = d.tick_index;
     s.rejected = d.rejected;
     s.reclaimed = d.reclaimed;
+    s.record_copies = d.record_copies;
     s.reproject = d.reproject_totals;
     s.pixels_updated = d.pixels_updated;
   }

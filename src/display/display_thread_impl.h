@@ -51,6 +51,7 @@ struct DisplayThread::Impl {
   uint64_t last_samples = 0;
   uint64_t rejected = 0;
   uint64_t reclaimed = 0;  // DisplayStats::reclaimed
+  uint64_t record_copies = 0;  // DisplayStats::record_copies
   std::atomic<uint64_t> consumer_polls{0};  // acquire_latest calls (any thread)
   uint64_t polls_seen = 0;       // consumer_polls at the last tick that saw it change
   uint64_t last_poll_tick = 0;   // that tick
@@ -70,9 +71,11 @@ struct DisplayThread::Impl {
   CameraBasis reproject_basis;
   Reprojector reprojector;
   PixelImage reprojected;
-  // A full copy catch_up left for later: the back buffer is a stale copy of `deferred` (the
+  // A whole copy catch_up left for later: the back buffer is a stale copy of `deferred` (the
   // newest image), which a reprojection this tick reads directly instead; else it is copied.
+  // deferred_records: its records too (else catch_up brought them up to date from the runs).
   const PixelImage* deferred = nullptr;
+  bool deferred_records = false;
   // Reprojection's marks by pixel and, for marked pixels (content moved there), their points
   // (relative to reproject_basis); an unmarked pixel's point is the engine's. The display
   // thread's alone, so outside the triple buffer; with the reprojection's output for them.
@@ -154,6 +157,7 @@ struct TickSink final : UpdateSink {
   bool asked = false;                            // asked for something since the last publish
   std::vector<SlotRun>* dirty = nullptr;
   bool full = false;          // this tick changed (or cleared) the whole image
+  bool moved = false;         // a reprojection moved what every place shows (the records stay)
   bool conventional = false;
   size_t dirty_slots = 0;     // slots in *dirty
   uint64_t changed = 0;       // pixels blended

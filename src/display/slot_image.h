@@ -38,18 +38,30 @@ struct SlotRun {
 };
 
 // What the last kHistory ticks changed: tick t's slot runs in runs[t % kHistory], or full[...]
-// when it changed (or cleared, or re-laid out) the whole image. Ticks before `newest` are recorded.
+// when it changed (or cleared, or re-laid out) the whole image, or moved[...] when a reprojection
+// moved what every place shows while the records (which stay in place) changed only in the runs.
+// Ticks before `newest` are recorded.
 struct ChangeHistory {
   std::vector<SlotRun> runs[kHistory];
   bool full[kHistory] = {};
+  bool moved[kHistory] = {};
   uint64_t newest = 0;
 
   // Whether an image holding ticks before `have` can be brought to ticks before `now` from runs.
-  bool covers(uint64_t have, uint64_t now) const {
+  bool covers(uint64_t have, uint64_t now) const { return covers_records(have, now) && !moved_in(have, now); }
+  // The same for the records alone: what each place shows may have moved since.
+  bool covers_records(uint64_t have, uint64_t now) const {
     if (have == 0 || have > now || now > newest || have + kHistory < newest) return false;
     for (uint64_t t = have; t < now; ++t)
       if (full[t % kHistory]) return false;
     return true;
+  }
+
+ private:
+  bool moved_in(uint64_t have, uint64_t now) const {
+    for (uint64_t t = have; t < now; ++t)
+      if (moved[t % kHistory]) return true;
+    return false;
   }
 };
 
@@ -75,7 +87,13 @@ struct PixelImage {
   size_t pixels() const { return size_t(width) * size_t(height); }
   // Places [first, first + count) of `src` (same size) copied in: what they show and their records.
   void copy_places(const PixelImage& src, size_t first, size_t count) {
+    copy_pixels(src, first, count);
+    copy_records(src, first, count);
+  }
+  void copy_pixels(const PixelImage& src, size_t first, size_t count) {
     std::memcpy(&px[first], &src.px[first], count * sizeof(DisplayPixel));
+  }
+  void copy_records(const PixelImage& src, size_t first, size_t count) {
     std::memcpy(&rec[first], &src.rec[first], count * sizeof(PlaceRecord));
   }
   uint32_t pixel_of(size_t slot) const { return layout ? layout->pixel_of[slot] : uint32_t(slot); }

@@ -18,7 +18,7 @@ void TickSink::begin(const CollectResult& r) {
   const bool moved = d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points);
   d.finish_catch_up(*image);
   if (moved) {
-    full = true;
+    this->moved = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
       for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)

@@ -1,6 +1,6 @@
 // Reprojection in the display thread: a still camera is never reprojected, a moving one once per
-// change, a resize forgets the old points, coverage stays exact, the runs stay bit-identical, and
-// pixels not yet re-rendered show their content moved.
+// change, a move leaves the records to the runs, a resize forgets the old points, coverage stays
+// exact, the runs stay bit-identical, and pixels not yet re-rendered show their content moved.
 #include "display/reproject.h"
 
 #include <gtest/gtest.h>
@@ -72,6 +72,43 @@ TEST(ReprojectDisplay, StillCameraNeverReprojectedMovingOncePerChange) {
   run.engine->publish_camera(orbit(c0, 6.0f));
   run.steps(1);
   EXPECT_EQ(run.display->stats().reproject.reprojections, 2u);
+}
+
+// Whether two public images hold the same bits in every layer.
+bool same_layers(const DisplayImage& a, const DisplayImage& b) {
+  const auto eq = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
+  };
+  return a.width == b.width && a.height == b.height && eq(a.rgb, b.rgb) && eq(a.last_update, b.last_update) &&
+         eq(a.sample_count, b.sample_count) && eq(a.variance, b.variance) && eq(a.epoch, b.epoch) &&
+         eq(a.levels, b.levels);
+}
+
+// A reprojection moves what each place shows, not the places' records: with a consumer taking
+// every image, a buffer catching up after one copies the pixels whole and the records from the
+// runs, never the records whole; and that consumer gets, bit for bit, what a consumer far behind
+// gets (a whole export).
+TEST(ReprojectDisplay, AMoveLeavesTheRecordsToTheRuns) {
+  DisplayRun every(true, nullptr, kW * kH / 16), rarely(true, nullptr, kW * kH / 16);
+  const Camera c0 = every.scene->camera;
+  uint64_t warm = 0;
+  int compared = 0;
+  for (int k = 0; k < 40; ++k) {
+    if (k % 3 == 1)
+      for (DisplayRun* run : {&every, &rarely}) run->engine->publish_camera(orbit(c0, 0.5f * float(k)));
+    every.steps(1);
+    rarely.steps(1);
+    const DisplayImage& img = every.display->acquire_latest();
+    if (k == 5) warm = every.display->stats().record_copies;  // each buffer's first catch-up copies everything
+    if (k % 10 == 9) {  // the other consumer skipped 9 ticks, more than the history holds: a whole export
+      EXPECT_TRUE(same_layers(img, rarely.display->acquire_latest())) << "tick " << k;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 4);
+  EXPECT_GE(every.display->stats().reproject.reprojections, 10u);
+  EXPECT_EQ(every.display->stats().record_copies, warm);
+  EXPECT_LE(warm, 3u);
 }
 
 // An image cleared by a resize keeps none of the old points and marks, even at the same pixel
