@@ -269,12 +269,21 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
   mode_ = mode;
   if (n == 0) return scale_;
   // Scales and the false-colour layer: per-pixel work on the GL thread, never on a render thread.
+  // Coverage (every view's overlay) in one pass over the epochs: the newest and how many show it.
   ViewScale s;
   uint32_t newest = image.info.newest_epoch;
-  for (size_t i = 0; i < n && i < image.epoch.size(); ++i) newest = std::max(newest, image.epoch[i]);
   size_t current = 0;
-  layer_.assign(n, 0.0f);
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = 0; i < n && i < image.epoch.size(); ++i) {
+    const uint32_t ep = image.epoch[i];
+    if (ep > newest) newest = ep, current = 0;
+    current += ep != 0 && ep == newest;
+  }
+  // The shaded view (the default) reads the colour alone: the other layers, the scales and the
+  // layer texture are left for the views that show them (at 1280x720 they cost the GL thread
+  // several milliseconds an image).
+  const bool layered = mode != ViewMode::shaded;
+  if (layered) layer_.assign(n, 0.0f);
+  for (size_t i = 0; layered && i < n; ++i) {
     const float age = i < image.last_update.size() && image.last_update[i] >= 0.0f
                           ? float(image.info.virtual_time) - image.last_update[i]
                           : -1.0f;
@@ -286,7 +295,6 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
     s.max_age = std::max(s.max_age, age);
     s.max_count = std::max(s.max_count, count);
     s.max_variance = std::max(s.max_variance, var);
-    if (ep != 0 && ep == newest) ++current;
     switch (mode) {
       case ViewMode::shaded: break;
       case ViewMode::age: layer_[i] = age < 0.0f ? 1.0f : age; break;
@@ -325,15 +333,18 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
   } else {
     gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, rgb);
   }
-  gl.ActiveTexture(GL_TEXTURE1);
-  gl.BindTexture(GL_TEXTURE_2D, layer_tex_);
-  if (resized) {
-    set_nearest(gl);
-    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width_, height_, 0, GL_RED, GL_FLOAT, layer_.data());
-  } else {
-    gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, layer_.data());
+  if (layered) {
+    gl.ActiveTexture(GL_TEXTURE1);
+    gl.BindTexture(GL_TEXTURE_2D, layer_tex_);
+    if (layer_width_ != width_ || layer_height_ != height_) {
+      set_nearest(gl);
+      gl.TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width_, height_, 0, GL_RED, GL_FLOAT, layer_.data());
+      layer_width_ = width_, layer_height_ = height_;
+    } else {
+      gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, layer_.data());
+    }
+    gl.ActiveTexture(GL_TEXTURE0);
   }
-  gl.ActiveTexture(GL_TEXTURE0);
   return s;
 }
 

@@ -63,6 +63,7 @@ class GlPresenter {
   unsigned image_program_ = 0, text_program_ = 0, vao_ = 0, text_vbo_ = 0;
   unsigned rgb_tex_ = 0, layer_tex_ = 0, font_tex_ = 0, fbo_ = 0, fbo_tex_ = 0;
   int width_ = 0, height_ = 0, fbo_width_ = 0, fbo_height_ = 0;
+  int layer_width_ = 0, layer_height_ = 0;  // the layer texture's size (uploaded for layered views only)
   ViewMode mode_ = ViewMode::shaded;
   ViewScale scale_;
   std::vector<float> layer_;      // scratch for the false-colour layer (display-side only)

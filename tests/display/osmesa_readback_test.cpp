@@ -74,6 +74,33 @@ TEST(OsMesaReadback, ReadbackDetectsAChangedPixel) {
   EXPECT_NE(back[(4 * 16 + 5) * 3 + 1], 42.0f);
 }
 
+// The shaded view (the default) reads only the colour and the epochs: it gives the coverage the
+// other views give and leaves their scales at 0. A view shown after the image changed size while
+// the shaded one was up gets its layer texture at the new size: what a fresh presenter shows.
+TEST(OsMesaReadback, TheShadedViewLeavesTheLayersToTheViewsThatShowThem) {
+  DisplayImage small = random_image(32, 24, 4);
+  for (size_t i = 0; i < small.sample_count.size(); ++i) small.sample_count[i] = uint32_t(i % 50);
+  std::vector<float> fresh, back;
+  {
+    Gl h = make_gl(32, 24);
+    ASSERT_TRUE(h.presenter);
+    h.presenter->upload(small, ViewMode::count);
+    ASSERT_TRUE(h.presenter->render_linear(fresh).ok());
+  }
+  Gl g = make_gl(64, 48);
+  ASSERT_TRUE(g.presenter);
+  const DisplayImage big = random_image(64, 48, 3);
+  const ViewScale shaded = g.presenter->upload(big, ViewMode::shaded);
+  const ViewScale count = g.presenter->upload(big, ViewMode::count);
+  EXPECT_EQ(shaded.coverage, count.coverage);
+  EXPECT_EQ(shaded.max_count, 0.0f);
+  EXPECT_EQ(count.max_count, 3.0f);
+  g.presenter->upload(small, ViewMode::shaded);
+  g.presenter->upload(small, ViewMode::count);
+  ASSERT_TRUE(g.presenter->render_linear(back).ok());
+  EXPECT_TRUE(back == fresh);
+}
+
 TEST(OsMesaReadback, ViewsAndOverlayDrawSomething) {
   Gl g = make_gl(64, 48);
   ASSERT_TRUE(g.presenter);
