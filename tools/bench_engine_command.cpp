@@ -26,7 +26,8 @@ const bool bench_engine_registered = register_command(
                      "one core (default 0.15)");
       app.add_option("--moving-sizes", args->moving_sizes,
                      "Also measure the display thread during the move with reprojection at these "
-                     "sizes WxH (default: 1280x720 only)");
+                     "sizes WxH, alone and with a consumer taking every image as the viewer does "
+                     "(default: 1280x720 only)");
       app.add_option("--render-nice", args->render_nice,
                      "Render threads' nice value above the display's, 0..19 (default " +
                          std::to_string(kDefaultRenderNice) + ")");
