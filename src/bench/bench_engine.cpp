@@ -110,23 +110,25 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
         e.publish_camera(evaluate_camera_path(path, k / 30.0, camera));
       }
     });
-  // Takes every image until `done` (polling at twice the display rate); its CPU seconds.
-  const auto consume = [&d](const std::atomic<bool>& done) {
+  // Takes every image until `done` (polling at twice the display rate); its CPU seconds while
+  // `counting` (the viewer's consumer starts with the display, but counts from the window's start).
+  std::atomic<bool> done{false}, counting{!viewer};
+  const auto consume = [&d, &done, &counting] {
     double cpu = 0;
     while (!done.load()) {
       const double c0 = thread_cpu_seconds();
       d.acquire_latest();
-      cpu += thread_cpu_seconds() - c0;
+      if (counting.load()) cpu += thread_cpu_seconds() - c0;
       sleep_s(1.0 / 120.0);
     }
     return cpu;
   };
-  std::atomic<bool> done{false};
   double consumer_cpu = 0;
   std::thread presenter;
-  if (viewer) presenter = std::thread([&] { consumer_cpu = consume(done); });
+  if (viewer) presenter = std::thread([&] { consumer_cpu = consume(); });
   sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
   const DisplayStats s0 = d.stats();
+  counting = true;
   auto t0 = std::chrono::steady_clock::now();
   sleep_s(seconds);
   const DisplayStats s1 = d.stats();
@@ -137,7 +139,7 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
   if (!viewer) {
     done = false;
     t0 = std::chrono::steady_clock::now();
-    presenter = std::thread([&] { consumer_cpu = consume(done); });
+    presenter = std::thread([&] { consumer_cpu = consume(); });
     sleep_s(std::max(0.5, seconds / 2));
     done = true;
     presenter.join();

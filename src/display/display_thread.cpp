@@ -163,13 +163,12 @@ bool DisplayThread::Impl::catch_up(const CollectResult& r) {
     deferred_records = true;
     return false;
   }
-  // Moved since (a reprojection): what each place shows is copied whole, unless this tick's
-  // reprojection reads src instead; the records, which stay in place, by runs all the same.
-  const bool moved = !history.covers(have, tick_index);
-  if (moved) deferred = &src, deferred_records = false;
+  // After a reprojection the pixels come whole (or this tick's reprojection reads src); records stay: runs.
+  const bool reprojected_since = !history.covers(have, tick_index);
+  if (reprojected_since) deferred = &src, deferred_records = false;
   for (uint64_t t = have; t < tick_index; ++t)
     for (const SlotRun& run : history.runs[t % kHistory]) {
-      if (!moved) img.copy_pixels(src, run.first, run.count);
+      if (!reprojected_since) img.copy_pixels(src, run.first, run.count);
       img.copy_records(src, run.first, run.count);
     }
   return false;

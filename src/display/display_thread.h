@@ -46,9 +46,8 @@ struct DisplayStats {
   double tick_end_seconds = 0;    // wall time (since start) when the last counted tick ended
   uint64_t rejected = 0;          // non-finite values stopped before the image
   uint64_t reclaimed = 0;         // ticks that blended into the newest image, no consumer having taken it
-  // Whole-image copies of the places' records into a stale buffer (a consumer that skipped more
-  // ticks than the history holds, a reset or layout change): a reprojection moves what places
-  // show, not their records, so a buffer catches up on those from the runs.
+  // Whole-image copies of the records into a stale buffer (across a tick that changed everything,
+  // or a consumer far behind); never for a reprojection, which moves pixels, not records.
   uint64_t record_copies = 0;
   ReprojectTotals reproject;
 };

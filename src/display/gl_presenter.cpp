@@ -281,9 +281,10 @@ ViewScale GlPresenter::upload(const DisplayImage& image, ViewMode mode) {
   // The shaded view (the default) reads the colour alone: the other layers, the scales and the
   // layer texture are left for the views that show them (at 1280x720 they cost the GL thread
   // several milliseconds an image).
-  const bool layered = mode != ViewMode::shaded;
+  const bool scaled = mode != ViewMode::shaded;
+  const bool layered = scaled && mode != ViewMode::levels;  // levels colours the image itself
   if (layered) layer_.assign(n, 0.0f);
-  for (size_t i = 0; layered && i < n; ++i) {
+  for (size_t i = 0; scaled && i < n; ++i) {
     const float age = i < image.last_update.size() && image.last_update[i] >= 0.0f
                           ? float(image.info.virtual_time) - image.last_update[i]
                           : -1.0f;

@@ -52,8 +52,8 @@ void export_image(const PixelImage& src, DisplayImage& dst) {
   dst.info = src.info;
 }
 
-// The colour and epoch layers of the whole image (what each place shows), the other layers left
-// as they are: after a reprojection only those moved.
+namespace {
+// The colour and epoch layers of the whole image, the others left as they are (a reprojection moves only these).
 void export_shown(const PixelImage& src, DisplayImage& dst) {
   const size_t n = src.pixels();
   const uint32_t* slot = src.layout ? src.layout->slot_of.data() : nullptr;
@@ -66,16 +66,13 @@ void export_shown(const PixelImage& src, DisplayImage& dst) {
     dst.epoch[i] = p.epoch;
   }
 }
+}  // namespace
 
-// Brings `out` (public layers, pixel order) up to `img`: patches the slots changed since the
-// image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it.
-// When only reprojections stand in the way, the moved layers (colour, epoch) are rebuilt whole
-// and the records' layers patched.
 void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced) {
   const uint64_t now = img.info.index + 1;
   const bool same_size = out.width == img.width && out.height == img.height && out.epoch.size() == img.pixels();
-  const bool records = same_size && img.history.covers_records(synced, now);
-  if (records) {
+  const bool patchable = same_size && img.history.covers_records(synced, now);
+  if (patchable) {
     if (!img.history.covers(synced, now)) export_shown(img, out);
     for (uint64_t t = synced; t < now; ++t)
       for (const SlotRun& run : img.history.runs[t % kHistory])

@@ -162,7 +162,8 @@ LayoutPtr make_layout(std::shared_ptr<const std::vector<uint32_t>> order, int wi
 void export_image(const PixelImage& src, DisplayImage& dst);
 
 // Brings `out` (public layers, pixel order) up to `img`: patches the slots changed since the
-// image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it.
+// image it holds (ticks before `synced`) when img's change history covers them, else rebuilds it;
+// across reprojections it rebuilds the colour and epoch layers and patches the others.
 void sync_public(const PixelImage& img, DisplayImage& out, uint64_t& synced);
 
 // dst <- src with each pixel moved to its slot under `layout` (a layout change, same size).

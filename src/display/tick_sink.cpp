@@ -15,10 +15,10 @@ void TickSink::begin(const CollectResult& r) {
   reproject = reproject && !conventional && r.points;
   wanted = conventional ? nullptr : r.wanted;
   points = reproject ? r.points : nullptr;
-  const bool moved = d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points);
+  const bool reprojected = d.reproject(*image, reproject, rule.config.reproject_budget, r.world_moves, r.points);
   d.finish_catch_up(*image);
-  if (moved) {
-    this->moved = true;
+  if (reprojected) {
+    moved = true;
     if (wanted) {  // closed loop: what reprojection could not guess (nothing near it, may have moved) first
       const uint8_t* marks = d.marks.data();
       for (size_t pixel = 0; pixel < d.marks.size(); ++pixel)

@@ -89,9 +89,11 @@ TEST(OsMesaReadback, TheShadedViewLeavesTheLayersToTheViewsThatShowThem) {
   }
   Gl g = make_gl(64, 48);
   ASSERT_TRUE(g.presenter);
-  const DisplayImage big = random_image(64, 48, 3);
+  DisplayImage big = random_image(64, 48, 3);
+  big.epoch[10] = big.epoch[20] = 5;  // newer than info.newest_epoch (2): the coverage counts these
   const ViewScale shaded = g.presenter->upload(big, ViewMode::shaded);
   const ViewScale count = g.presenter->upload(big, ViewMode::count);
+  EXPECT_DOUBLE_EQ(shaded.coverage, 2.0 / (64.0 * 48.0));
   EXPECT_EQ(shaded.coverage, count.coverage);
   EXPECT_EQ(shaded.max_count, 0.0f);
   EXPECT_EQ(count.max_count, 3.0f);
