@@ -10,6 +10,7 @@
 #include "display/display_image.h"
 #include "display/display_pixel.h"
 #include "display/reproject.h"
+#include "display/stream_copy.h"
 
 namespace frameless {
 
@@ -90,11 +91,16 @@ struct PixelImage {
     copy_pixels(src, first, count);
     copy_records(src, first, count);
   }
+  // Runs (a tick's few places) go through the caches; whole images stream (stream_copy.h).
   void copy_pixels(const PixelImage& src, size_t first, size_t count) {
-    std::memcpy(&px[first], &src.px[first], count * sizeof(DisplayPixel));
+    copy(&px[first], &src.px[first], count * sizeof(DisplayPixel));
   }
   void copy_records(const PixelImage& src, size_t first, size_t count) {
-    std::memcpy(&rec[first], &src.rec[first], count * sizeof(PlaceRecord));
+    copy(&rec[first], &src.rec[first], count * sizeof(PlaceRecord));
+  }
+  static void copy(void* dst, const void* src, size_t bytes) {
+    if (bytes >= (size_t(1) << 20)) return stream_copy(dst, src, bytes);
+    std::memcpy(dst, src, bytes);
   }
   uint32_t pixel_of(size_t slot) const { return layout ? layout->pixel_of[slot] : uint32_t(slot); }
   uint32_t slot_of(size_t pixel) const { return layout ? layout->slot_of[pixel] : uint32_t(pixel); }
