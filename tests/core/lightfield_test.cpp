@@ -200,6 +200,24 @@ TEST(Lightfield, FilesRoundTripAndEveryBrokenOneIsOneLine) {
   const int32_t claim = 0x7fffffff;
   std::memcpy(&huge[size_at], &claim, 4);
   expect_one_line(decode_lightfield(huge, "bad.exr"), "claims more bytes than the file holds");
+  // A value that does not fill its size: OpenEXR reads what the type says, so it would read on
+  // into the next attribute and take arbitrary bytes for the next size (the fuzzer found a 1.3 GB
+  // allocation so, tests/fuzz/corpus/regress_exr_chlist_past_its_size). Refused first.
+  const auto resized = [&bytes](const std::string& name_and_type, int32_t delta) {
+    std::string b = bytes;
+    const size_t at = b.find(name_and_type) + name_and_type.size();
+    int32_t size = 0;
+    std::memcpy(&size, &b[at], 4);
+    size += delta;
+    std::memcpy(&b[at], &size, 4);
+    return b;
+  };
+  expect_one_line(decode_lightfield(resized(std::string("frameless:uv\0v2i\0", 17), -4), "bad.exr"),
+                  "(v2i) does not fill its 4 bytes");
+  expect_one_line(decode_lightfield(resized(std::string("channels\0chlist\0", 16), -1), "bad.exr"),
+                  "(chlist) does not fill its");
+  expect_one_line(decode_lightfield(resized(std::string("channels\0chlist\0", 16), 18), "bad.exr"),
+                  "(chlist) does not fill its");
   std::string renamed = bytes;
   renamed.replace(renamed.find("frameless:lightfield"), 20, "frameless:lightfielX");
   expect_one_line(decode_lightfield(renamed, "bad.exr"), "not a lightfield");
