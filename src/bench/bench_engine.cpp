@@ -110,40 +110,36 @@ DisplayCost display_cpu(const Scene& scene, EngineConfig c, const Camera& camera
         e.publish_camera(evaluate_camera_path(path, k / 30.0, camera));
       }
     });
-  // Takes every image until `done` (polling at twice the display rate); its CPU seconds while
-  // `counting` (the viewer's consumer starts with the display, but counts from the window's start).
-  std::atomic<bool> done{false}, counting{!viewer};
-  const auto consume = [&d, &done, &counting] {
-    double cpu = 0;
+  // Takes every image (polling at twice the display rate) until `done`, adding its CPU time while
+  // `counting`: the viewer's consumer starts with the display but counts from the window's start.
+  std::atomic<bool> done{false}, counting{false};
+  double consumer_cpu = 0;
+  const auto consume = [&] {
     while (!done.load()) {
       const double c0 = thread_cpu_seconds();
       d.acquire_latest();
-      if (counting.load()) cpu += thread_cpu_seconds() - c0;
+      if (counting.load()) consumer_cpu += thread_cpu_seconds() - c0;
       sleep_s(1.0 / 120.0);
     }
-    return cpu;
   };
-  double consumer_cpu = 0;
   std::thread presenter;
-  if (viewer) presenter = std::thread([&] { consumer_cpu = consume(); });
+  if (viewer) presenter = std::thread(consume);
   sleep_s(0.5);  // skip the first full-image ticks (initial resync and buffer fills)
   const DisplayStats s0 = d.stats();
-  counting = true;
+  counting = viewer;
   auto t0 = std::chrono::steady_clock::now();
   sleep_s(seconds);
   const DisplayStats s1 = d.stats();
-  done = true;
-  if (presenter.joinable()) presenter.join();
   stop = true;
   if (mover.joinable()) mover.join();
-  if (!viewer) {
-    done = false;
+  if (!viewer) {  // after the display's window, so it took no CPU from the render threads there
     t0 = std::chrono::steady_clock::now();
-    presenter = std::thread([&] { consumer_cpu = consume(); });
+    counting = true;
+    presenter = std::thread(consume);
     sleep_s(std::max(0.5, seconds / 2));
-    done = true;
-    presenter.join();
   }
+  done = true;
+  presenter.join();
   const double consumer_wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   d.stop();

@@ -26,7 +26,6 @@ inline uint32_t zero_bytes(const uint8_t* p) {
 // land_engine16 eight points at a time: the batch's (at most eight), projected as Projector does
 // and landed as land() lands them.
 void Reprojector::land_engine8(const Projector& to, const EngineBatch& b, int w) {
-  if (b.count <= 0) return;
   const __m256 zero = _mm256_setzero_ps();
   const __m256i obj = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.object));
   const __m256 sky = _mm256_castsi256_ps(_mm256_cmpeq_epi32(obj, _mm256_set1_epi32(int(kPointSky))));
@@ -171,7 +170,7 @@ size_t Reprojector::splat8(const ViewMove& mv, const SlotImage& from, int w) {
       if (batch.add(engine_point(from, q), uint32_t(q)) == 8) land_engine8(mv.to, batch, w), batch.count = 0;
     }
   }
-  land_engine8(mv.to, batch, w);
+  if (batch.count) land_engine8(mv.to, batch, w);
   return n;
 }
 

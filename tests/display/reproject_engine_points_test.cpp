@@ -26,11 +26,6 @@ struct EngineTestImage {
   }
 };
 
-void set_engine_point(PixelPoint& slot, const Vec3& p, uint32_t object) {
-  for (int c = 0; c < 3; ++c) slot.p[c].store(p[c], std::memory_order_relaxed);
-  slot.object.store(object, std::memory_order_relaxed);
-}
-
 TEST(ReprojectEnginePoints, VectorSplatLandsThemAsTheScalarCode) {
   const CameraBasis a = look_at_basis({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, kImageW, kImageH);
   const CameraBasis b = look_at_basis({0.9f, 0.4f, 4.0f}, {0.3f, 0.1f, 0.0f}, kImageW, kImageH);
@@ -54,7 +49,10 @@ TEST(ReprojectEnginePoints, VectorSplatLandsThemAsTheScalarCode) {
       if (i % 29 == 0) p = r.dir, object = kPointSky;
       if (i % 31 == 0) object = kPointNone;
       if (i % 37 == 0) p = a.eye + 3.0f * (a.eye - on_plane);  // behind both cameras
-      set_engine_point(engine[i], p, object);
+      SampleResult sample;  // written as a render thread writes it
+      sample.position = p;
+      sample.object = object;
+      store_point(engine[i], sample);
       // What the marked arrays hold there is never read.
       from.points[i] = ViewPoint{1.0f, kViewCentre | kViewStatic << kViewKindShift};
     } else {

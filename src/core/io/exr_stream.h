@@ -100,8 +100,9 @@ inline std::string exr_header_problem(const std::string& bytes) {
       if (attributes == 4096) return "header has more than 4096 attributes";
       if (at >= bytes.size()) return "header is truncated";
       if (bytes[at] == '\0') break;  // the header's end
-      const size_t type_at = bytes.find('\0', at) + 1;
-      if (!skip_name(bytes, at, bytes.size()) || !skip_name(bytes, at, bytes.size()))
+      const bool named = skip_name(bytes, at, bytes.size());
+      const size_t type_at = at;
+      if (!named || !skip_name(bytes, at, bytes.size()))
         return "header attribute " + std::to_string(attributes) + " has no valid name or type";
       const std::string type = bytes.substr(type_at, at - 1 - type_at);
       if (bytes.size() - at < 4) return "header is truncated";
