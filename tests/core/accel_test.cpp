@@ -1,5 +1,6 @@
 // The BVH against brute force on random scenes (closest hit and any hit), permutation and memory.
 #include "core/accel/accel.h"
+#include "core/accel/bvh_build_split.h"
 
 #include <gtest/gtest.h>
 
@@ -237,11 +238,11 @@ TEST(Accel, MatchesBruteForceOnMixedScene) {
 }
 
 TEST(Accel, MatchesBruteForceWithOtherLeafSizesAndBins) {
-  AccelConfig cfg;
-  cfg.max_leaf_size = 1;
+  AccelConfig cfg;  // small scenes: their trees take the cached trees' leaf size
+  cfg.cached_leaf_size = 1;
   cfg.sah_bins = 2;
   expect_matches_brute_force(mixed_scene(5, 100), 15, kRaysPerScene / 4, cfg);
-  cfg.max_leaf_size = 16;
+  cfg.cached_leaf_size = 16;
   cfg.sah_bins = 64;
   expect_matches_brute_force(mixed_scene(6, 100), 16, kRaysPerScene / 4, cfg);
 }
@@ -257,6 +258,21 @@ TEST(Accel, MatchesBruteForceOnDeepTree) {
   Geometry g = mixed_scene(7, 80000);
   expect_matches_brute_force(g, 17, kRaysPerScene / 400, cfg);
   EXPECT_GE(calls, 1);  // how many waves fan out depends on the splits
+}
+
+TEST(Accel, MatchesBruteForceOnATreeWithLargeLeaves) {
+  // Enough primitives for the leaves of trees beyond the caches (bvh_build_small.h): clusters of
+  // overlapping triangles and of nested spheres, which become leaves of up to 16.
+  Geometry g;
+  TestRng rng(18);
+  const int side = 24;
+  for (int c = 0; g.num_triangles() + g.num_spheres() < bvh_split::kCachedTreePrims + 1000; ++c) {
+    const Vec3 o = Vec3(-1.0f) + (2.0f / float(side)) * Vec3(float(c % side), float(c / side % side), float(c / side / side % side));
+    for (int k = 0; k < 9; ++k)
+      add_triangle(g, o + uniform_vec(rng, 0.0f, 0.04f), o + uniform_vec(rng, 0.0f, 0.04f), o + uniform_vec(rng, 0.0f, 0.04f));
+    for (int k = 0; k < 3; ++k) add_sphere(g, o + Vec3(0.02f), 0.005f * float(k + 1));
+  }
+  expect_matches_brute_force(g, 19, kRaysPerScene / 800);
 }
 
 TEST(Accel, ParallelAndSerialBuildsAreIdentical) {

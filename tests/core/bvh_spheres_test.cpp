@@ -3,6 +3,7 @@
 // bound), materials travelling with their spheres, identical closest hits under the traversal's
 // slab test, and a layout that does not depend on the parallel executor.
 #include "core/accel/bvh_build_spheres.h"
+#include "core/accel/bvh_build_split.h"
 
 #include <gtest/gtest.h>
 
@@ -213,7 +214,8 @@ void expect_same_hits(SphereSet set, uint32_t seed, int rays, const AccelConfig&
   const Bvh8 ref = reference_build(ref_spheres, cfg);
   std::vector<Sphere> before = set.spheres;
   const Bvh8 bvh = build_bvh8_spheres(set.spheres, set.materials, cfg);
-  const int max_leaf = std::clamp(cfg.max_leaf_size, 1, kMaxLeafSize);
+  const bool cached = set.spheres.size() < bvh_split::kCachedTreePrims;  // its leaf limit
+  const int max_leaf = std::clamp(cached ? cfg.cached_leaf_size : cfg.max_leaf_size, 1, kMaxLeafSize);
   ASSERT_EQ(check_structure(bvh, set.spheres, max_leaf), "");
   ASSERT_EQ(set.materials.size(), set.spheres.size());
   for (size_t i = 0; i < set.spheres.size(); ++i)
@@ -322,7 +324,7 @@ TEST(BvhSpheres, OtherLeafSizesAndBins) {
     for (int bins : {2, 5, 64, 1000}) {
       SCOPED_TRACE(std::to_string(leaf) + " per leaf, " + std::to_string(bins) + " bins");
       AccelConfig cfg;
-      cfg.max_leaf_size = leaf;
+      cfg.max_leaf_size = cfg.cached_leaf_size = leaf;  // a small set: its tree is a cached one
       cfg.sah_bins = bins;
       expect_same_hits(awkward_set(40 + uint32_t(leaf)), 41, 3000, cfg);
     }
@@ -352,7 +354,7 @@ TEST(BvhSpheres, DepthStaysWithinTheStackOnAdversarialInput) {
   for (size_t i = 0; i < s.spheres.size(); ++i) s.materials[i] = fingerprint(s.spheres[i]);
   AccelConfig cfg;
   cfg.sah_bins = 2;
-  cfg.max_leaf_size = 1;
+  cfg.max_leaf_size = cfg.cached_leaf_size = 1;
   SphereSet copy = s;
   const Bvh8 b = build_bvh8_spheres(copy.spheres, copy.materials, cfg);
   EXPECT_EQ(check_structure(b, copy.spheres, 1), "");
@@ -384,7 +386,7 @@ TEST(BvhSpheres, ParallelBuildIsIdenticalToSerial) {
   const Bvh8 b = build_bvh8_spheres(reversed.spheres, reversed.materials, reverse_parallel(&calls));
   const Bvh8 c = build_bvh8_spheres(threads.spheres, threads.materials, threaded(3));
   EXPECT_GT(calls, 2);
-  EXPECT_EQ(check_structure(a, serial.spheres, 4), "");
+  EXPECT_EQ(check_structure(a, serial.spheres, 16), "");  // a tree beyond the caches: leaves of up to 16
   ASSERT_EQ(a.nodes.size(), b.nodes.size());
   ASSERT_EQ(a.nodes.size(), c.nodes.size());
   EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh8Node)), 0);

@@ -219,7 +219,7 @@ bool traverse(const std::vector<Bvh8Node>& node_array, const LeafTriangle* leaf_
       // big for the cache.
       if (prefetch)
         for (uint32_t m = mask & ~uint32_t(node.singles); m; m &= m - 1)
-          prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m), blocks);
+          prefetch_child(nodes, leaf_tris, node, __builtin_ctz(m), blocks, spheres);
 #if defined(__AVX2__)
       if (const uint32_t singles = mask & node.singles) {
         // The single-triangle leaves entered, all in one pass (the rest of the node as usual).

@@ -2,6 +2,8 @@
 // (structure choice, grid dispatch); not a public interface.
 #pragma once
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -120,10 +122,18 @@ inline void push_far_to_near(Entry* stack, int base, int& sp, const Entry& x) {
   stack[k] = x;
 }
 
+// Asks for the cache lines of [begin, begin + bytes).
+inline void prefetch_lines(const void* begin, size_t bytes) {
+  const uintptr_t end = reinterpret_cast<uintptr_t>(begin) + bytes;
+  for (uintptr_t line = reinterpret_cast<uintptr_t>(begin) & ~uintptr_t(63); line < end; line += 64)
+    __builtin_prefetch(reinterpret_cast<const void*>(line));
+}
+
 // Asks for child j of `node`, so its fetch overlaps the rest of the node's work: a node's four
-// lines (and its triangle block, given the blocks), or a triangle leaf's first two.
+// lines (and its triangle block, given the blocks), or a leaf's triangles (or spheres, given
+// them) whole: leaves hold up to 16 (AccelConfig::max_leaf_size), nine lines of triangles.
 inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, const Bvh8Node& node, int j,
-                           const TriangleBlock* blocks = nullptr) {
+                           const TriangleBlock* blocks = nullptr, const Sphere* spheres = nullptr) {
   const uint8_t info = node.info[j];
   if (info == 0) {
     const char* a = reinterpret_cast<const char*>(nodes + node.child[j]);
@@ -131,9 +141,9 @@ inline void prefetch_child(const Bvh8Node* nodes, const LeafTriangle* leaf_tris,
     if (blocks && (node.blocked >> j & 1u))  // and its single-triangle leaves
       prefetch_block(blocks + node.child_blocks + uint32_t(__builtin_popcount(node.blocked & ((1u << j) - 1u))));
   } else if (!(info & (kPatchLeafBit | kSphereLeafBit))) {
-    const char* a = reinterpret_cast<const char*>(leaf_tris + node.child[j]);
-    __builtin_prefetch(a);
-    __builtin_prefetch(a + 64);
+    prefetch_lines(leaf_tris + node.child[j], sizeof(LeafTriangle) * info);
+  } else if (spheres && (info & kSphereLeafBit)) {
+    prefetch_lines(spheres + node.child[j], sizeof(Sphere) * (info & kLeafCountMask));
   }
 }
 

@@ -289,7 +289,7 @@ void traverse_packet(const Bvh8Node* nodes, const LeafTriangle* leaf_tris, bool 
           l &= lanes_entering(nd, j, p);
           if (l == 0) continue;
         }
-        if (prefetch) prefetch_child(nodes, leaf_tris, nd, j);
+        if (prefetch) prefetch_child(nodes, leaf_tris, nd, j, nullptr, spheres);
         push_far_to_near(stack, base, sp, PacketEntry{nd.child[j], nd.info[j], dist[j], l});
       }
       continue;

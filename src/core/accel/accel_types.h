@@ -38,7 +38,11 @@ struct AccelConfig {
   // points of the scene's box. Read during build only.
   std::vector<Ray> trial_rays;
   std::vector<Vec3> trial_lights;
-  int max_leaf_size = 4;  // primitives per leaf at most
+  // Primitives per leaf at most: in trees that outgrow the caches (bvh_build_small.h), where a
+  // range of more than a few is a leaf only if the exact SAH of its best split saves rays less
+  // than a node visit; in smaller trees, where every range of up to cached_leaf_size is one.
+  int max_leaf_size = 16;
+  int cached_leaf_size = 4;
   int sah_bins = 16;      // bins per axis for the binned SAH sweep
   // Optional executor for a parallel build: runs body(i) for every i in [0, n), possibly
   // concurrently, and returns when all are done (the caller owns the threads). Empty: serial.

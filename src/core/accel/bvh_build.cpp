@@ -201,9 +201,7 @@ Bvh8 build_bvh8(PrimRef* refs, size_t count, uint32_t num_triangles, const Accel
   uint32_t kinds = 0;
   for (uint32_t i = 0; i < n; ++i) kinds |= 1u << prim_kind(refs[i].id, num_triangles, first_patch);
   const RefPrims prims{refs, num_triangles, first_patch, (kinds & (kinds - 1)) != 0};
-  SplitSettings settings;
-  settings.max_leaf = uint32_t(std::clamp(config.max_leaf_size, 1, kMaxLeafSize));
-  settings.bins = std::clamp(config.sah_bins, 2, kMaxBins);
+  const SplitSettings settings = split_settings(config, n, kTriangleNodeCost);
   // The split into top and tasks depends on n only, so the layout is the same with or without
   // an executor (and whatever order it runs things in).
   const bool big = n > kParallelMin;

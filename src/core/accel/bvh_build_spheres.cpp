@@ -211,9 +211,7 @@ Bvh8 build(const Prims& prims, uint32_t n, const AccelConfig& config) {
   const bool big = n > kParallelMin;
   const bool parallel = bool(config.parallel_for) && big;
   const ParallelFor* pf = parallel ? &config.parallel_for : nullptr;
-  SplitSettings settings;
-  settings.max_leaf = uint32_t(std::clamp(config.max_leaf_size, 1, kMaxLeafSize));
-  settings.bins = std::clamp(config.sah_bins, 2, kMaxBins);
+  const SplitSettings settings = split_settings(config, n, kSphereNodeCost);
   Top<Prims> top{prims, settings, pf, big ? std::max(kMinTask, n / 128) : 0xffffffffu, {}, {}, 0, 0};
   top.build(Splitter<Prims>(prims, settings, pf).make_range(0, n));
 

@@ -19,7 +19,9 @@
 #include <functional>
 #include <vector>
 
+#include "core/accel/accel_types.h"
 #include "core/accel/bvh_build_f4.h"
+#include "core/accel/bvh_build_small.h"
 #include "core/base/parallel_for.h"
 #include "core/accel/bvh_node.h"
 
@@ -31,10 +33,6 @@ using namespace bvh_f4;
 // traversal stack) even for adversarial primitive distributions.
 inline constexpr int kSahDepthLimit = 32;
 inline constexpr int kMaxBins = 64;
-// Ranges up to this size are split by exact SAH over sorted centroids instead of bins.
-inline constexpr uint32_t kSmallSplit = 16;
-inline constexpr uint32_t kSmallPad = 16;  // key arrays of small splits
-static_assert(kSmallSplit <= kSmallPad, "small splits fit the key arrays");
 // With an executor, splits of at least kParallelBinMin primitives bin (and ranges get their
 // bounds) in parallel chunks of kBinChunk.
 inline constexpr uint32_t kParallelBinMin = 1u << 17;
@@ -101,8 +99,21 @@ inline void set_child_box(Bvh8Node& node, int i, const Box4& b) {
 
 struct SplitSettings {
   uint32_t max_leaf = 4;
+  float node_cost = 4.0f;  // a node visit in primitive tests: leaves past it only where they pay
   int bins = 16;
 };
+
+// The settings of a tree over n primitives, a node visit costing node_cost tests where the tree
+// outgrows the caches: there leaves of up to config.max_leaf_size where they pay; a smaller tree
+// takes every range of up to config.cached_leaf_size as a leaf (bvh_build_small.h).
+inline SplitSettings split_settings(const AccelConfig& config, size_t n, float node_cost) {
+  SplitSettings s;
+  const bool cached = n < kCachedTreePrims;
+  s.max_leaf = uint32_t(std::clamp(cached ? config.cached_leaf_size : config.max_leaf_size, 1, kMaxLeafSize));
+  s.node_cost = cached ? float(s.max_leaf) : node_cost;
+  s.bins = std::clamp(config.sah_bins, 2, kMaxBins);
+  return s;
+}
 
 // Prims is the primitive array being split, with:
 //   void box(uint32_t i, F4& lo, F4& hi) const;  // bounds of primitive i (w lanes unused)
@@ -126,7 +137,17 @@ class Splitter {
 
   void finish_range(Range& r) const {
     r.area = r.box.half_area();
-    r.leaf_ok = r.count() <= s_.max_leaf && (!Prims::kMayMix || p_.homogeneous(r.begin, r.end));
+    r.leaf_ok = r.count() <= s_.max_leaf && (!Prims::kMayMix || p_.homogeneous(r.begin, r.end)) && leaf_pays(r);
+  }
+
+  // Up to node_cost primitives a leaf always; more (up to max_leaf) where the exact SAH says a
+  // split would not save rays a node visit's worth of tests (bvh_build_small.h).
+  bool leaf_pays(const Range& r) const {
+    const uint32_t n = r.count();
+    if (float(n) <= s_.node_cost || n > kSmallSplit) return true;
+    F4 lo[kSmallSplit], hi[kSmallSplit];
+    for (uint32_t i = 0; i < n; ++i) p_.box(r.begin + i, lo[i], hi[i]);
+    return leaf_beats_split(lo, hi, n, r.area, s_.node_cost);
   }
 
   // Bounds and centroid bounds of [begin, end), in parallel chunks when allowed.
@@ -414,39 +435,11 @@ class Splitter {
       return;
     }
     F4 lo[kSmallSplit], hi[kSmallSplit];
-    // Doubled centroids per axis, padded with +inf (never smaller than a key, never counted).
+    for (uint32_t i = 0; i < n; ++i) p_.box(r.begin + i, lo[i], hi[i]);
     alignas(32) float c[3][kSmallPad];
-    for (int a = 0; a < 3; ++a)
-      for (uint32_t i = n; i < kSmallPad; ++i) c[a][i] = kInfinity;
-    for (uint32_t i = 0; i < n; ++i) {
-      p_.box(r.begin + i, lo[i], hi[i]);
-      alignas(16) float f[4];
-      store4(f, lo[i] + hi[i]);
-      for (int a = 0; a < 3; ++a) c[a][i] = f[a];
-    }
+    centroid_keys(lo, hi, n, c);
     uint8_t order[3][kSmallSplit];
-    auto sort_axis = [&](int a) {
-      const float* key = c[a];
-#if defined(__AVX2__)
-      static_assert(kSmallPad == 16, "two AVX registers of keys");
-      const __m256 k0 = _mm256_load_ps(key), k1 = _mm256_load_ps(key + 8);
-      for (uint32_t i = 0; i < n; ++i) {
-        const __m256 ki = _mm256_set1_ps(key[i]);
-        const uint32_t lt = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k0, ki, _CMP_LT_OQ))) |
-                            uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k1, ki, _CMP_LT_OQ))) << 8;
-        const uint32_t eq = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k0, ki, _CMP_EQ_OQ))) |
-                            uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k1, ki, _CMP_EQ_OQ))) << 8;
-        order[a][__builtin_popcount(lt | (eq & ((1u << i) - 1u)))] = uint8_t(i);
-      }
-#else
-      for (uint32_t i = 0; i < n; ++i) {
-        const float ki = key[i];
-        uint32_t rank = 0;
-        for (uint32_t j = 0; j < n; ++j) rank += (key[j] < ki) | ((key[j] == ki) & (j < i));
-        order[a][rank] = uint8_t(i);
-      }
-#endif
-    };
+    auto sort_axis = [&](int a) { centroid_order(c[a], n, order[a]); };
     int best_axis = -1;
     uint32_t best_i = 0;
     if (level > kSahDepthLimit) {

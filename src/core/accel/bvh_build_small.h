@@ -1,0 +1,98 @@
+// Exact SAH over small ranges (both BVH builders, through bvh_build_split.h): primitives in
+// centroid order on an axis, and whether a range is cheaper for rays as one leaf than split.
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+#include "core/accel/bvh_build_f4.h"
+
+namespace frameless::bvh_split {
+
+using namespace bvh_f4;
+
+// Ranges up to this size are split by exact SAH over sorted centroids instead of bins.
+inline constexpr uint32_t kSmallSplit = 16;
+inline constexpr uint32_t kSmallPad = 16;  // key arrays of small splits
+static_assert(kSmallSplit <= kSmallPad, "small splits fit the key arrays");
+
+// Trees over fewer primitives stay in the caches (at about 70 bytes a triangle, a few times a
+// 2 MB L2), where a node visit costs about a primitive test and leaves stay small; bigger trees'
+// visits are cache misses, and leaves grow where the exact SAH says they pay (benchmarks.md,
+// section 38: the dragon's rays 7-13 % faster, the soup's and the 11 M mesh's the same, a
+// million spheres' 5-19 %; plants and the bunny lost up to 25 % with big leaves).
+inline constexpr size_t kCachedTreePrims = size_t(1) << 17;
+// A node visit's cost in primitive tests in such trees: triangles (patches and mixed sets too)
+// and spheres, whose test reads 16 bytes against a triangle's 36.
+inline constexpr float kTriangleNodeCost = 3.0f;
+inline constexpr float kSphereNodeCost = 8.0f;
+
+// order[rank] = i for keys key[0, n) (padded with +inf to kSmallPad): a stable counting of
+// smaller keys, no data-dependent branches.
+inline void centroid_order(const float* key, uint32_t n, uint8_t* order) {
+#if defined(__AVX2__)
+  static_assert(kSmallPad == 16, "two AVX registers of keys");
+  const __m256 k0 = _mm256_loadu_ps(key), k1 = _mm256_loadu_ps(key + 8);
+  for (uint32_t i = 0; i < n; ++i) {
+    const __m256 ki = _mm256_set1_ps(key[i]);
+    const uint32_t lt = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k0, ki, _CMP_LT_OQ))) |
+                        uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k1, ki, _CMP_LT_OQ))) << 8;
+    const uint32_t eq = uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k0, ki, _CMP_EQ_OQ))) |
+                        uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(k1, ki, _CMP_EQ_OQ))) << 8;
+    order[__builtin_popcount(lt | (eq & ((1u << i) - 1u)))] = uint8_t(i);
+  }
+#else
+  for (uint32_t i = 0; i < n; ++i) {
+    const float ki = key[i];
+    uint32_t rank = 0;
+    for (uint32_t j = 0; j < n; ++j) rank += (key[j] < ki) | ((key[j] == ki) & (j < i));
+    order[rank] = uint8_t(i);
+  }
+#endif
+}
+
+// The doubled centroids of boxes lo/hi[0, n) by axis, padded with +inf (never smaller than a
+// key, never counted).
+inline void centroid_keys(const F4* lo, const F4* hi, uint32_t n, float (*c)[kSmallPad]) {
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = n; i < kSmallPad; ++i) c[a][i] = kInfinity;
+  for (uint32_t i = 0; i < n; ++i) {
+    alignas(16) float f[4];
+    store4(f, lo[i] + hi[i]);
+    for (int a = 0; a < 3; ++a) c[a][i] = f[a];
+  }
+}
+
+// Whether n primitives (boxes lo/hi, 2 <= n <= kSmallSplit, their bounds' half area `area`) cost
+// rays no more as one leaf than as a node over the best exact SAH split, a node visit costing
+// `node_cost` primitive tests: n * area <= node_cost * area + SAH(best split). Leaves hold
+// overlapping primitives (a dense surface: splitting halves neither the area nor the work) and
+// split far-apart ones (a soup of small triangles: the children's boxes are mostly empty space).
+inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area, float node_cost) {
+  alignas(32) float c[3][kSmallPad];
+  centroid_keys(lo, hi, n, c);
+  uint8_t order[3][kSmallSplit];
+  bool use[3];
+  for (int a = 0; a < 3; ++a) {
+    float cmin = c[a][0], cmax = c[a][0];
+    for (uint32_t i = 1; i < n; ++i) cmin = std::fmin(cmin, c[a][i]), cmax = std::fmax(cmax, c[a][i]);
+    use[a] = cmax > cmin;
+    if (use[a]) {
+      centroid_order(c[a], n, order[a]);
+    } else {  // read by the sweep, result unused
+      for (uint32_t i = 0; i < n; ++i) order[a][i] = uint8_t(i);
+    }
+  }
+  const SweepResult best = sweep3<kSmallSplit>(int(n), use, [&](int a, int k) {
+    const uint8_t i = order[a][k];
+    return SweepItem{lo[i], hi[i], 1u};
+  });
+  // No split with a finite cost (all centroids equal, or overflowing boxes): nothing to gain.
+  return !(best.cost < kInfinity) || float(n) * area <= node_cost * area + best.cost;
+}
+
+}  // namespace frameless::bvh_split
