@@ -87,27 +87,41 @@ int largest_sphere_leaf(Geometry g, const AccelConfig& cfg = {}) {
 
 TEST(BvhLeaves, OverlappingPrimitivesMakeOneLeafAndFarApartOnesSplit) {
   using namespace bvh_split;
-  // Eight triangles spanning one box: any split leaves both halves the whole box.
+  const bool every_axis[3] = {true, true, true};
   std::vector<F4> lo, hi;
-  for (int k = 0; k < 8; ++k) {
-    lo.push_back(f4(Vec3(0.0f)));
-    hi.push_back(f4(Vec3(1.0f)));
+  const auto add = [&](Vec3 l, Vec3 h) { lo.push_back(f4(l)), hi.push_back(f4(h)); };
+  const auto half_area = [&] {
+    Box4 b;
+    for (size_t i = 0; i < lo.size(); ++i) b.grow(lo[i], hi[i]);
+    return b.half_area();
+  };
+  // Eight triangles spanning one box: their own boxes already cost what a leaf does.
+  for (int k = 0; k < 8; ++k) add(Vec3(0.0f), Vec3(1.0f));
+  SmallSplit found;
+  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 8, half_area(), kTriangleNodeCost, every_axis, found));
+  EXPECT_EQ(found.axis, -1);  // decided without a split
+  // Eight thin sticks across a square, four along x and four along y: their own boxes are
+  // nothing, yet every split leaves at least one side the whole square, so the leaf pays.
+  lo.clear(), hi.clear();
+  for (int k = 0; k < 4; ++k) {
+    const float at = float(k) / 3.0f;
+    add(Vec3(0.0f, at, 0.0f), Vec3(1.0f, at + 1e-3f, 0.0f));
+    add(Vec3(at, 0.0f, 0.0f), Vec3(at + 1e-3f, 1.0f, 0.0f));
   }
-  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 8, 3.0f, kTriangleNodeCost));
-  // Eight tiny ones at the corners of that box: halves are faces, a third of its area each.
+  const bool flat[3] = {true, true, false};
+  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 8, half_area(), kTriangleNodeCost, flat, found));
+  EXPECT_GE(found.axis, 0);  // the split it weighed is kept for the builder
+  // Eight tiny ones at the corners of a cube: halves are faces, a third of its area each.
   lo.clear(), hi.clear();
   for (int k = 0; k < 8; ++k) {
     const Vec3 c(float(k & 1), float(k >> 1 & 1), float(k >> 2 & 1));
-    lo.push_back(f4(c - Vec3(1e-3f)));
-    hi.push_back(f4(c + Vec3(1e-3f)));
+    add(c - Vec3(1e-3f), c + Vec3(1e-3f));
   }
-  EXPECT_FALSE(leaf_beats_split(lo.data(), hi.data(), 8, 3.0f * (1.002f * 1.002f), kTriangleNodeCost));
+  found = SmallSplit();
+  EXPECT_FALSE(leaf_beats_split(lo.data(), hi.data(), 8, half_area(), kTriangleNodeCost, every_axis, found));
+  EXPECT_EQ(found.pos, 4);  // four corners a side
   // A node visit dearer than the eight tests: the leaf again.
-  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 8, 3.0f * (1.002f * 1.002f), 8.0f));
-  // All centres equal: no split has a finite cost, nothing to gain.
-  lo.assign(4, f4(Vec3(0.0f)));
-  hi.assign(4, f4(Vec3(1.0f)));
-  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 4, 3.0f, 0.0f));
+  EXPECT_TRUE(leaf_beats_split(lo.data(), hi.data(), 8, half_area(), 8.0f, every_axis, found));
 }
 
 TEST(BvhLeaves, TreesBeyondTheCachesGrowLeavesWhereTheyPay) {

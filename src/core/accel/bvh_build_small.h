@@ -1,6 +1,8 @@
-// Exact SAH over small ranges (both BVH builders, through bvh_build_split.h): primitives in
-// centroid order on an axis, and whether a range is cheaper for rays as one leaf than split.
+// The BVH builders' leaf policy and exact SAH over small ranges (both builders, through
+// bvh_build_split.h): the split settings of a tree, primitives in centroid order on an axis, and
+// whether a range is cheaper for rays as one leaf than split.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -9,7 +11,9 @@
 #include <immintrin.h>
 #endif
 
+#include "core/accel/accel_types.h"
 #include "core/accel/bvh_build_f4.h"
+#include "core/accel/bvh_node.h"
 
 namespace frameless::bvh_split {
 
@@ -30,6 +34,27 @@ inline constexpr size_t kCachedTreePrims = size_t(1) << 17;
 // and spheres, whose test reads 16 bytes against a triangle's 36.
 inline constexpr float kTriangleNodeCost = 3.0f;
 inline constexpr float kSphereNodeCost = 8.0f;
+
+// Bins per axis at most (AccelConfig::sah_bins is held to it).
+inline constexpr int kMaxBins = 64;
+
+struct SplitSettings {
+  uint32_t max_leaf = 4;
+  float node_cost = 4.0f;  // a node visit in primitive tests: leaves past it only where they pay
+  int bins = 16;
+};
+
+// The settings of a tree over n primitives, a node visit costing node_cost tests where the tree
+// outgrows the caches: there leaves of up to config.max_leaf_size where they pay; a smaller tree
+// takes every range of up to config.cached_leaf_size as a leaf.
+inline SplitSettings split_settings(const AccelConfig& config, size_t n, float node_cost) {
+  SplitSettings s;
+  const bool cached = n < kCachedTreePrims;
+  s.max_leaf = uint32_t(std::clamp(cached ? config.cached_leaf_size : config.max_leaf_size, 1, kMaxLeafSize));
+  s.node_cost = cached ? float(s.max_leaf) : node_cost;
+  s.bins = std::clamp(config.sah_bins, 2, kMaxBins);
+  return s;
+}
 
 // order[rank] = i for keys key[0, n) (padded with +inf to kSmallPad): a stable counting of
 // smaller keys, no data-dependent branches.
@@ -67,20 +92,30 @@ inline void centroid_keys(const F4* lo, const F4* hi, uint32_t n, float (*c)[kSm
   }
 }
 
+// A small range's best exact SAH split, kept from the leaf decision for the split itself:
+// the axis (-1: none kept), where it cuts, and the range's order along that axis.
+struct SmallSplit {
+  int8_t axis = -1;
+  uint8_t pos = 0;
+  uint8_t order[kSmallSplit];
+};
+
 // Whether n primitives (boxes lo/hi, 2 <= n <= kSmallSplit, their bounds' half area `area`) cost
 // rays no more as one leaf than as a node over the best exact SAH split, a node visit costing
 // `node_cost` primitive tests: n * area <= node_cost * area + SAH(best split). Leaves hold
 // overlapping primitives (a dense surface: splitting halves neither the area nor the work) and
 // split far-apart ones (a soup of small triangles: the children's boxes are mostly empty space).
-inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area, float node_cost) {
+// use[a]: the axes with a centroid extent. The split found (if any) goes to `best_split`.
+inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area, float node_cost,
+                             const bool use[3], SmallSplit& best_split) {
+  // No split costs less than the primitives' own boxes: overlapping ones need no sorting.
+  float own = 0.0f;
+  for (uint32_t i = 0; i < n; ++i) own += half_area4(lo[i], hi[i]);
+  if (float(n) * area <= node_cost * area + own) return true;
   alignas(32) float c[3][kSmallPad];
   centroid_keys(lo, hi, n, c);
   uint8_t order[3][kSmallSplit];
-  bool use[3];
   for (int a = 0; a < 3; ++a) {
-    float cmin = c[a][0], cmax = c[a][0];
-    for (uint32_t i = 1; i < n; ++i) cmin = std::fmin(cmin, c[a][i]), cmax = std::fmax(cmax, c[a][i]);
-    use[a] = cmax > cmin;
     if (use[a]) {
       centroid_order(c[a], n, order[a]);
     } else {  // read by the sweep, result unused
@@ -91,8 +126,12 @@ inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area,
     const uint8_t i = order[a][k];
     return SweepItem{lo[i], hi[i], 1u};
   });
-  // No split with a finite cost (all centroids equal, or overflowing boxes): nothing to gain.
-  return !(best.cost < kInfinity) || float(n) * area <= node_cost * area + best.cost;
+  // No split with a finite cost (overflowing boxes): nothing to gain.
+  if (!(best.cost < kInfinity)) return true;
+  best_split.axis = int8_t(best.axis);
+  best_split.pos = uint8_t(best.pos);
+  for (uint32_t i = 0; i < n; ++i) best_split.order[i] = order[best.axis][i];
+  return float(n) * area <= node_cost * area + best.cost;
 }
 
 }  // namespace frameless::bvh_split

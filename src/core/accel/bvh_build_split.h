@@ -32,7 +32,6 @@ using namespace bvh_f4;
 // Past this node level splits become object medians, which bounds the tree depth (and so the
 // traversal stack) even for adversarial primitive distributions.
 inline constexpr int kSahDepthLimit = 32;
-inline constexpr int kMaxBins = 64;
 // With an executor, splits of at least kParallelBinMin primitives bin (and ranges get their
 // bounds) in parallel chunks of kBinChunk.
 inline constexpr uint32_t kParallelBinMin = 1u << 17;
@@ -58,6 +57,7 @@ struct Range {
   Box4 cbox;  // bounds of the doubled centroids lo + hi (what the bins are laid over)
   float area = 0.0f;
   bool leaf_ok = false;
+  SmallSplit small;  // the best exact split, when the leaf decision found it
   uint32_t count() const { return end - begin; }
 };
 
@@ -97,24 +97,6 @@ inline void set_child_box(Bvh8Node& node, int i, const Box4& b) {
   }
 }
 
-struct SplitSettings {
-  uint32_t max_leaf = 4;
-  float node_cost = 4.0f;  // a node visit in primitive tests: leaves past it only where they pay
-  int bins = 16;
-};
-
-// The settings of a tree over n primitives, a node visit costing node_cost tests where the tree
-// outgrows the caches: there leaves of up to config.max_leaf_size where they pay; a smaller tree
-// takes every range of up to config.cached_leaf_size as a leaf (bvh_build_small.h).
-inline SplitSettings split_settings(const AccelConfig& config, size_t n, float node_cost) {
-  SplitSettings s;
-  const bool cached = n < kCachedTreePrims;
-  s.max_leaf = uint32_t(std::clamp(cached ? config.cached_leaf_size : config.max_leaf_size, 1, kMaxLeafSize));
-  s.node_cost = cached ? float(s.max_leaf) : node_cost;
-  s.bins = std::clamp(config.sah_bins, 2, kMaxBins);
-  return s;
-}
-
 // Prims is the primitive array being split, with:
 //   void box(uint32_t i, F4& lo, F4& hi) const;  // bounds of primitive i (w lanes unused)
 //   void swap(uint32_t i, uint32_t j) const;
@@ -142,12 +124,15 @@ class Splitter {
 
   // Up to node_cost primitives a leaf always; more (up to max_leaf) where the exact SAH says a
   // split would not save rays a node visit's worth of tests (bvh_build_small.h).
-  bool leaf_pays(const Range& r) const {
+  bool leaf_pays(Range& r) const {
     const uint32_t n = r.count();
     if (float(n) <= s_.node_cost || n > kSmallSplit) return true;
     F4 lo[kSmallSplit], hi[kSmallSplit];
     for (uint32_t i = 0; i < n; ++i) p_.box(r.begin + i, lo[i], hi[i]);
-    return leaf_beats_split(lo, hi, n, r.area, s_.node_cost);
+    bool use[3];
+    const Vec3 extent = xyz(r.cbox.hi - r.cbox.lo);
+    for (int a = 0; a < 3; ++a) use[a] = extent[a] > 0.0f;  // as split_small decides them
+    return leaf_beats_split(lo, hi, n, r.area, s_.node_cost, use, r.small);
   }
 
   // Bounds and centroid bounds of [begin, end), in parallel chunks when allowed.
@@ -425,7 +410,6 @@ class Splitter {
   // Exact SAH for a small range (n <= kSmallSplit, centroids not all equal): every split between
   // neighbours in centroid order on every axis with an extent is costed; the range is then
   // reordered along the best axis. Past the SAH depth limit: the median on the widest axis.
-  // Sorting is by rank (a stable counting of smaller keys: no data-dependent branches).
   void split_small(const Range& r, int level, int axis, const Vec3& extent, Range& left,
                    Range& right) const {
     const uint32_t n = r.count();
@@ -437,12 +421,18 @@ class Splitter {
     F4 lo[kSmallSplit], hi[kSmallSplit];
     for (uint32_t i = 0; i < n; ++i) p_.box(r.begin + i, lo[i], hi[i]);
     alignas(32) float c[3][kSmallPad];
-    centroid_keys(lo, hi, n, c);
+    bool keyed = false;  // the keys, once a sort needs them
     uint8_t order[3][kSmallSplit];
-    auto sort_axis = [&](int a) { centroid_order(c[a], n, order[a]); };
+    auto sort_axis = [&](int a) {
+      if (!keyed) centroid_keys(lo, hi, n, c), keyed = true;
+      centroid_order(c[a], n, order[a]);
+    };
     int best_axis = -1;
     uint32_t best_i = 0;
-    if (level > kSahDepthLimit) {
+    if (level <= kSahDepthLimit && r.small.axis >= 0) {  // the leaf decision found it already
+      best_axis = r.small.axis, best_i = r.small.pos;
+      std::copy(r.small.order, r.small.order + n, order[best_axis]);
+    } else if (level > kSahDepthLimit) {
       sort_axis(axis);
       best_axis = axis, best_i = n / 2;
     } else {
