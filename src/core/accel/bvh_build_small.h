@@ -27,8 +27,8 @@ static_assert(kSmallSplit <= kSmallPad, "small splits fit the key arrays");
 // Trees over fewer primitives stay in the caches (at about 70 bytes a triangle, a few times a
 // 2 MB L2), where a node visit costs about a primitive test and leaves stay small; bigger trees'
 // visits are cache misses, and leaves grow where the exact SAH says they pay (benchmarks.md,
-// section 38: the dragon's rays 7-13 % faster, the soup's and the 11 M mesh's the same, a
-// million spheres' 5-19 %; plants and the bunny lost up to 25 % with big leaves).
+// section 38: the dragon's rays up to 22 % faster, a million spheres' 7-21 %, the soup's and the
+// 11 M mesh's the same; leaves of 16 in every tree cost instanced plants up to 25 %).
 inline constexpr size_t kCachedTreePrims = size_t(1) << 17;
 // A node visit's cost in primitive tests in such trees: triangles (patches and mixed sets too)
 // and spheres, whose test reads 16 bytes against a triangle's 36.
