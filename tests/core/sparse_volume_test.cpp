@@ -141,6 +141,20 @@ TEST(SparseVolume, BadVolumesAreRefused) {
   EXPECT_NE(n.error().message.find("nan.vdb: voxel ("), std::string::npos) << n.error().message;
   EXPECT_NE(n.error().message.find("is not a finite number"), std::string::npos);
 
+  // A few tiles can ask for far more bricks than the file holds: past the limit, one line.
+  SparseVolume tiles;
+  tiles.tiles.push_back(SparseTile{{0, 0, 0}, 64, 1.0f});
+  tiles.tiles.push_back(SparseTile{{64, 0, 0}, 64, 2.0f});
+  auto fits = brick_sparse_volume(tiles, "tiles.vdb");
+  ASSERT_TRUE(fits) << fits.error().message;
+  const uint64_t bricks = fits->grid->bricks->stored(), bytes = bricks * kBrickVoxels * 4;
+  auto over = brick_sparse_volume(tiles, "tiles.vdb", bytes - 1);
+  ASSERT_FALSE(over);
+  EXPECT_EQ(over.error().message, "tiles.vdb: its " + std::to_string(bricks) + " bricks would take " +
+                                      std::to_string(bytes >> 20) + " MB, more than the limit of " +
+                                      std::to_string((bytes - 1) >> 20) + " MB");
+  EXPECT_TRUE(brick_sparse_volume(tiles, "tiles.vdb", bytes));  // exactly fits
+
   SparseVolume far = ball();
   far.tiles.push_back(SparseTile{{4096 * 300, 0, 0}, 4096, 1.0f});  // bounds wider than 2^20 voxels
   auto f = brick_sparse_volume(far, "far.vdb");

@@ -178,7 +178,7 @@ class TreeReader {
   size_t max_leaves_;
 };
 
-VdbVolume decode(const uint8_t* data, size_t size, const std::string& wanted) {
+VdbVolume decode(const uint8_t* data, size_t size, const std::string& wanted, uint64_t max_brick_bytes) {
   Cursor c(data, size);
   if (size < 8 || c.get<int64_t>("the magic number") != kMagic)
     fail("not an OpenVDB file (no VDB magic number)");
@@ -259,7 +259,7 @@ VdbVolume decode(const uint8_t* data, size_t size, const std::string& wanted) {
     fail("the grid's data runs past its end (byte " + std::to_string(d.end_pos) + ")");
   out.leaves = sparse.leaves.size();
   out.tiles = sparse.tiles.size();
-  auto bricked = brick_sparse_volume(sparse, "grid '" + name + "'");
+  auto bricked = brick_sparse_volume(sparse, "grid '" + name + "'", max_brick_bytes);
   if (!bricked) fail(bricked.error().message);
   out.bricked = std::move(*bricked);
   return out;
@@ -275,9 +275,9 @@ Affine VdbVolume::grid_to_world() const {
 }
 
 Result<VdbVolume> decode_vdb(const uint8_t* data, size_t size, const std::string& path,
-                             const std::string& grid) {
+                             const std::string& grid, uint64_t max_brick_bytes) {
   try {
-    return decode(data, size, grid);
+    return decode(data, size, grid, max_brick_bytes);
   } catch (const VdbFailure& f) {
     return Error{one_line(path + ": " + f.what)};
   } catch (const std::bad_alloc&) {

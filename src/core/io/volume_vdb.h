@@ -30,8 +30,9 @@ struct VdbVolume {
 // The grid named `grid` ("" = the first float or double grid).
 Result<VdbVolume> read_vdb(const std::string& path, const std::string& grid);
 
-// The same for a file's bytes in memory (the fuzzer, tests); `path` names it in errors.
+// The same for a file's bytes in memory (the fuzzer, tests); `path` names it in errors. A grid
+// whose bricks would take more than `max_brick_bytes` is refused (brick_sparse_volume).
 Result<VdbVolume> decode_vdb(const uint8_t* data, size_t size, const std::string& path,
-                             const std::string& grid);
+                             const std::string& grid, uint64_t max_brick_bytes = kMaxBrickBytes);
 
 }  // namespace frameless

@@ -20,7 +20,7 @@ std::string at_index(const Index3& o, int i, int j, int k) {
 
 }  // namespace
 
-Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string& what) {
+Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string& what, uint64_t max_bytes) {
   if (!std::isfinite(s.background)) return Error{what + ": the background is not a finite number"};
   int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
   const auto cover = [&](const Index3& o, int side) {
@@ -103,9 +103,12 @@ Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string
                     : constant(src);
   };
 
+  // First which bricks are stored (one per leaf region, one per constant value), so that their
+  // memory is known, and refused past the limit, before any is made: a few kilobytes of tiles
+  // can describe gigabytes of bricks.
   p.table.resize(count);
   std::unordered_map<uint32_t, uint32_t> constant_brick;  // value bits -> stored brick
-  float vmin = kInfinity, vmax = -kInfinity;
+  std::vector<uint32_t> stored;                            // stored brick -> the brick it was made for
   for (int64_t bz = 0; bz < p.bz; ++bz)
     for (int64_t by = 0; by < p.by; ++by)
       for (int64_t bx = 0; bx < p.bx; ++bx) {
@@ -129,21 +132,30 @@ Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string
             continue;
           }
         }
-        if (p.stored() >= UINT32_MAX) return Error{what + ": too many bricks"};
-        const uint32_t id = uint32_t(p.stored());
+        if (stored.size() >= UINT32_MAX) return Error{what + ": too many bricks"};
+        const uint32_t id = uint32_t(stored.size());
         p.table[brick(bx, by, bz)] = id;
         if (uniform) constant_brick.emplace(bits, id);
-        p.voxels.resize(p.voxels.size() + kBrickVoxels);
-        float* out = p.voxels.data() + size_t(id) * kBrickVoxels;
-        for (int k = 0; k < kBrickSide; ++k)
-          for (int j = 0; j < kBrickSide; ++j)
-            for (int i = 0; i < kBrickSide; ++i) {
-              const float v = voxel(bx * 8 + i, by * 8 + j, bz * 8 + k);
-              *out++ = v;
-              vmin = std::min(vmin, v), vmax = std::max(vmax, v);
-            }
+        stored.push_back(uint32_t(brick(bx, by, bz)));
       }
-  p.voxels.shrink_to_fit();
+  const uint64_t bytes = uint64_t(stored.size()) * kBrickVoxels * sizeof(float);
+  if (bytes > max_bytes)
+    return Error{what + ": its " + std::to_string(stored.size()) + " bricks would take " +
+                 std::to_string(bytes >> 20) + " MB, more than the limit of " + std::to_string(max_bytes >> 20) +
+                 " MB"};
+  p.voxels.resize(stored.size() * kBrickVoxels);
+  float vmin = kInfinity, vmax = -kInfinity;
+  for (size_t id = 0; id < stored.size(); ++id) {
+    const int64_t b = stored[id], bx = b % p.bx, by = b / p.bx % p.by, bz = b / p.bx / p.by;
+    float* out = p.voxels.data() + id * kBrickVoxels;
+    for (int k = 0; k < kBrickSide; ++k)
+      for (int j = 0; j < kBrickSide; ++j)
+        for (int i = 0; i < kBrickSide; ++i) {
+          const float v = voxel(bx * 8 + i, by * 8 + j, bz * 8 + k);
+          *out++ = v;
+          vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+        }
+  }
 
   auto g = std::make_shared<VolumeGrid>();
   g->nx = int(n[0]), g->ny = int(n[1]), g->nz = int(n[2]);
