@@ -147,13 +147,23 @@ TEST(SparseVolume, BadVolumesAreRefused) {
   tiles.tiles.push_back(SparseTile{{64, 0, 0}, 64, 2.0f});
   auto fits = brick_sparse_volume(tiles, "tiles.vdb");
   ASSERT_TRUE(fits) << fits.error().message;
-  const uint64_t bricks = fits->grid->bricks->stored(), bytes = bricks * kBrickVoxels * 4;
+  const BrickPool& pool = *fits->grid->bricks;
+  const uint64_t table = uint64_t(pool.bx) * uint64_t(pool.by) * uint64_t(pool.bz) * 4;
+  const uint64_t bricks = pool.stored(), bytes = bricks * kBrickVoxels * 4 + table;
   auto over = brick_sparse_volume(tiles, "tiles.vdb", bytes - 1);
   ASSERT_FALSE(over);
   EXPECT_EQ(over.error().message, "tiles.vdb: its " + std::to_string(bricks) + " bricks would take " +
-                                      std::to_string(bytes >> 20) + " MB, more than the limit of " +
+                                      std::to_string(bytes >> 20) + " MB with their table, more than the limit of " +
                                       std::to_string((bytes - 1) >> 20) + " MB");
   EXPECT_TRUE(brick_sparse_volume(tiles, "tiles.vdb", bytes));  // exactly fits
+  // Tiles far apart: the table alone passes the limit, refused before any pass over it.
+  SparseVolume apart;
+  apart.tiles.push_back(SparseTile{{0, 0, 0}, 8, 1.0f});
+  apart.tiles.push_back(SparseTile{{2000, 2000, 2000}, 8, 1.0f});  // bounds 2017^3: 253^3 bricks
+  auto wide = brick_sparse_volume(apart, "apart.vdb", uint64_t(1) << 24);
+  ASSERT_FALSE(wide);
+  EXPECT_EQ(wide.error().message, "apart.vdb: its bounds span 16194277 bricks, whose table would take 61 MB, "
+                                  "more than the limit of 16 MB");
 
   SparseVolume far = ball();
   far.tiles.push_back(SparseTile{{4096 * 300, 0, 0}, 4096, 1.0f});  // bounds wider than 2^20 voxels

@@ -61,6 +61,12 @@ Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string
   BrickPool& p = *pool;
   p.bx = int((n[0] - 1) / 8 + 1), p.by = int((n[1] - 1) / 8 + 1), p.bz = int((n[2] - 1) / 8 + 1);
   const size_t count = size_t(p.bx) * size_t(p.by) * size_t(p.bz);
+  // The brick table alone (4 bytes a brick of the bounds) may pass the limit: refused before the
+  // passes over it (a few tiles far apart span millions of bricks).
+  if (uint64_t(count) * sizeof(uint32_t) > max_bytes)
+    return Error{what + ": its bounds span " + std::to_string(count) + " bricks, whose table would take " +
+                 std::to_string((uint64_t(count) * sizeof(uint32_t)) >> 20) + " MB, more than the limit of " +
+                 std::to_string(max_bytes >> 20) + " MB"};
   const auto brick = [&](int64_t x, int64_t y, int64_t z) {
     return (size_t(z) * size_t(p.by) + size_t(y)) * size_t(p.bx) + size_t(x);
   };
@@ -138,11 +144,11 @@ Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string
         if (uniform) constant_brick.emplace(bits, id);
         stored.push_back(uint32_t(brick(bx, by, bz)));
       }
-  const uint64_t bytes = uint64_t(stored.size()) * kBrickVoxels * sizeof(float);
+  const uint64_t bytes = uint64_t(stored.size()) * kBrickVoxels * sizeof(float) + uint64_t(count) * sizeof(uint32_t);
   if (bytes > max_bytes)
     return Error{what + ": its " + std::to_string(stored.size()) + " bricks would take " +
-                 std::to_string(bytes >> 20) + " MB, more than the limit of " + std::to_string(max_bytes >> 20) +
-                 " MB"};
+                 std::to_string(bytes >> 20) + " MB with their table, more than the limit of " +
+                 std::to_string(max_bytes >> 20) + " MB"};
   p.voxels.resize(stored.size() * kBrickVoxels);
   float vmin = kInfinity, vmax = -kInfinity;
   for (size_t id = 0; id < stored.size(); ++id) {

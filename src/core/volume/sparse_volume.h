@@ -38,7 +38,7 @@ struct BrickedGrid {
 // The grid over everything that is not the background (leaves, and tiles of other values), with
 // one voxel of background around it so that surfaces close; its origin a multiple of 8, so that
 // bricks are the leaves. Refuses non-finite voxels, empty volumes, bounds beyond the grid limits
-// (volume_grid.h) and bricks that would take more than `max_bytes`, naming `what`.
+// (volume_grid.h) and bricks that would take more than `max_bytes` with their table, naming `what`.
 inline constexpr uint64_t kMaxBrickBytes = uint64_t(1) << 34;  // 16 GiB
 Result<BrickedGrid> brick_sparse_volume(const SparseVolume& s, const std::string& what,
                                         uint64_t max_bytes = kMaxBrickBytes);
