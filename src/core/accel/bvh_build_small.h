@@ -100,18 +100,10 @@ struct SmallSplit {
   uint8_t order[kSmallSplit];
 };
 
-// Whether n primitives (boxes lo/hi, 2 <= n <= kSmallSplit, their bounds' half area `area`) cost
-// rays no more as one leaf than as a node over the best exact SAH split, a node visit costing
-// `node_cost` primitive tests: n * area <= node_cost * area + SAH(best split). Leaves hold
-// overlapping primitives (a dense surface: splitting halves neither the area nor the work) and
-// split far-apart ones (a soup of small triangles: the children's boxes are mostly empty space).
-// use[a]: the axes with a centroid extent. The split found (if any) goes to `best_split`.
-inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area, float node_cost,
-                             const bool use[3], SmallSplit& best_split) {
-  // No split costs less than the primitives' own boxes: overlapping ones need no sorting.
-  float own = 0.0f;
-  for (uint32_t i = 0; i < n; ++i) own += half_area4(lo[i], hi[i]);
-  if (float(n) * area <= node_cost * area + own) return true;
+// The best exact SAH split of boxes lo/hi[0, n) (2 <= n <= kSmallSplit) between neighbours in
+// centroid order on the axes use[a]: its cost, with its axis, position and order in `split`; an
+// infinite cost, `split` untouched, when no split has a finite one (overflowing boxes).
+inline float best_small_split(const F4* lo, const F4* hi, uint32_t n, const bool use[3], SmallSplit& split) {
   alignas(32) float c[3][kSmallPad];
   centroid_keys(lo, hi, n, c);
   uint8_t order[3][kSmallSplit];
@@ -126,12 +118,28 @@ inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area,
     const uint8_t i = order[a][k];
     return SweepItem{lo[i], hi[i], 1u};
   });
-  // No split with a finite cost (overflowing boxes): nothing to gain.
-  if (!(best.cost < kInfinity)) return true;
-  best_split.axis = int8_t(best.axis);
-  best_split.pos = uint8_t(best.pos);
-  for (uint32_t i = 0; i < n; ++i) best_split.order[i] = order[best.axis][i];
-  return float(n) * area <= node_cost * area + best.cost;
+  if (!(best.cost < kInfinity)) return kInfinity;
+  split.axis = int8_t(best.axis);
+  split.pos = uint8_t(best.pos);
+  std::copy(order[best.axis], order[best.axis] + n, split.order);
+  return best.cost;
+}
+
+// Whether n primitives (boxes lo/hi, 2 <= n <= kSmallSplit, their bounds' half area `area`) cost
+// rays no more as one leaf than as a node over the best exact SAH split, a node visit costing
+// `node_cost` primitive tests: n * area <= node_cost * area + SAH(best split). Leaves hold
+// overlapping primitives (a dense surface: splitting halves neither the area nor the work) and
+// split far-apart ones (a soup of small triangles: the children's boxes are mostly empty space).
+// use[a]: the axes with a centroid extent. The split found (if any) goes to `best_split`.
+inline bool leaf_beats_split(const F4* lo, const F4* hi, uint32_t n, float area, float node_cost,
+                             const bool use[3], SmallSplit& best_split) {
+  // No split costs less than the primitives' own boxes: overlapping ones need no sorting.
+  float own = 0.0f;
+  for (uint32_t i = 0; i < n; ++i) own += half_area4(lo[i], hi[i]);
+  if (float(n) * area <= node_cost * area + own) return true;
+  const float cost = best_small_split(lo, hi, n, use, best_split);
+  // No split with a finite cost: nothing to gain.
+  return !(cost < kInfinity) || float(n) * area <= node_cost * area + cost;
 }
 
 }  // namespace frameless::bvh_split

@@ -19,7 +19,6 @@
 #include <functional>
 #include <vector>
 
-#include "core/accel/accel_types.h"
 #include "core/accel/bvh_build_f4.h"
 #include "core/accel/bvh_build_small.h"
 #include "core/base/parallel_for.h"
@@ -420,43 +419,24 @@ class Splitter {
     }
     F4 lo[kSmallSplit], hi[kSmallSplit];
     for (uint32_t i = 0; i < n; ++i) p_.box(r.begin + i, lo[i], hi[i]);
-    alignas(32) float c[3][kSmallPad];
-    bool keyed = false;  // the keys, once a sort needs them
-    uint8_t order[3][kSmallSplit];
-    auto sort_axis = [&](int a) {
-      if (!keyed) centroid_keys(lo, hi, n, c), keyed = true;
-      centroid_order(c[a], n, order[a]);
-    };
-    int best_axis = -1;
-    uint32_t best_i = 0;
-    if (level <= kSahDepthLimit && r.small.axis >= 0) {  // the leaf decision found it already
-      best_axis = r.small.axis, best_i = r.small.pos;
-      std::copy(r.small.order, r.small.order + n, order[best_axis]);
-    } else if (level > kSahDepthLimit) {
-      sort_axis(axis);
-      best_axis = axis, best_i = n / 2;
-    } else {
+    // The best exact split, kept by the leaf decision or found now; past the SAH depth limit, or
+    // when no split has a finite cost (overflowing boxes), the median on the widest axis.
+    SmallSplit split = r.small;
+    if (level > kSahDepthLimit) {
+      split.axis = -1;
+    } else if (split.axis < 0) {
       bool use[3];
-      for (int a = 0; a < 3; ++a) {
-        use[a] = extent[a] > 0.0f;
-        if (use[a]) {
-          sort_axis(a);
-        } else {  // read by the sweep, result unused
-          for (uint32_t i = 0; i < n; ++i) order[a][i] = uint8_t(i);
-        }
-      }
-      const SweepResult best = sweep3<kSmallSplit>(int(n), use, [&](int a, int k) {
-        const uint8_t i = order[a][k];
-        return SweepItem{lo[i], hi[i], 1u};
-      });
-      best_axis = best.axis, best_i = uint32_t(best.pos);
+      for (int a = 0; a < 3; ++a) use[a] = extent[a] > 0.0f;
+      best_small_split(lo, hi, n, use, split);
     }
-    if (best_axis < 0) {  // no finite cost (overflowing boxes): median on the widest axis
-      best_axis = axis;
-      best_i = n / 2;
-      sort_axis(axis);
+    if (split.axis < 0) {
+      alignas(32) float c[3][kSmallPad];
+      centroid_keys(lo, hi, n, c);
+      centroid_order(c[axis], n, split.order);
+      split.pos = uint8_t(n / 2);
     }
-    const uint8_t* o = order[best_axis];
+    const uint32_t best_i = split.pos;
+    const uint8_t* o = split.order;
     p_.reorder(r.begin, n, o);
     Box4 box[2], cbox[2];
     for (uint32_t i = 0; i < n; ++i) {
